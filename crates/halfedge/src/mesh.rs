@@ -1,0 +1,251 @@
+//! The mesh itself: four arenas of element records, linked by ids.
+//!
+//! Elements are never removed in this lab, so ids stay valid forever and the
+//! ids that exist at one moment are simply `0..count`.
+
+use std::ops::{Index, IndexMut};
+
+use glam::DVec3;
+
+use crate::ids::{EdgeId, FaceId, HalfedgeId, Ids, VertexId};
+
+/// One side of an edge, running from `vertex` to `mesh[next].vertex`, with its
+/// face on the left (faces are counter-clockwise seen from outside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Halfedge {
+    /// The halfedge on the other side of the same edge, running the other way.
+    pub twin: HalfedgeId,
+    /// The next halfedge counter-clockwise around `face`.
+    pub next: HalfedgeId,
+    /// The vertex this halfedge starts from.
+    pub vertex: VertexId,
+    /// The edge this halfedge is one side of.
+    pub edge: EdgeId,
+    /// The face this halfedge runs around (maybe a boundary face).
+    pub face: FaceId,
+}
+
+/// A point of the mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex {
+    /// Where the vertex is.
+    pub pos: DVec3,
+    /// Scratch space for subdivision: where the vertex will move to.
+    pub new_pos: DVec3,
+    /// Scratch flag for subdivision: whether the vertex was created by it.
+    pub is_new: bool,
+    /// Any one halfedge that starts at this vertex.
+    pub halfedge: HalfedgeId,
+}
+
+/// An undirected edge: a pair of twin halfedges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Edge {
+    /// Either of the edge's two halfedges.
+    pub halfedge: HalfedgeId,
+    /// Scratch space for subdivision: where the vertex that splits this edge
+    /// will be placed.
+    pub new_pos: DVec3,
+    /// Scratch flag for subdivision: whether the edge was created by it.
+    pub is_new: bool,
+}
+
+/// A polygon of the mesh, or a hole in it (`is_boundary`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Face {
+    /// Any one halfedge running around this face.
+    pub halfedge: HalfedgeId,
+    /// True for the virtual face that fills a hole: it is not part of the
+    /// surface, but it gives every halfedge a twin.
+    pub is_boundary: bool,
+}
+
+/// A half-edge mesh. See the crate documentation for a tour.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub(crate) vertices: Vec<Vertex>,
+    pub(crate) edges: Vec<Edge>,
+    pub(crate) faces: Vec<Face>,
+    pub(crate) halfedges: Vec<Halfedge>,
+    element_budget: Option<usize>,
+}
+
+impl Mesh {
+    /// An empty mesh. Most meshes come from [`Mesh::from_faces`],
+    /// [`Mesh::from_obj_file`] or [`crate::shapes`].
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn num_vertices(&self) -> usize {
+        self.vertices.len()
+    }
+    pub fn num_edges(&self) -> usize {
+        self.edges.len()
+    }
+    /// Counts boundary faces too; see [`Mesh::num_real_faces`].
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
+    /// Faces that are polygons of the surface, not holes.
+    pub fn num_real_faces(&self) -> usize {
+        self.faces.iter().filter(|f| !f.is_boundary).count()
+    }
+    pub fn num_halfedges(&self) -> usize {
+        self.halfedges.len()
+    }
+    /// Vertices + edges + faces + halfedges: what the growth budget counts.
+    pub fn num_elements(&self) -> usize {
+        self.vertices.len() + self.edges.len() + self.faces.len() + self.halfedges.len()
+    }
+
+    /// The ids of the vertices that exist now. The iterator holds no borrow,
+    /// so you may create elements inside the loop; the new ones are not visited.
+    pub fn vertex_ids(&self) -> Ids<VertexId> {
+        Ids::new(self.vertices.len(), VertexId)
+    }
+    /// The ids of the edges that exist now (see [`Mesh::vertex_ids`]).
+    pub fn edge_ids(&self) -> Ids<EdgeId> {
+        Ids::new(self.edges.len(), EdgeId)
+    }
+    /// The ids of the faces that exist now, boundary faces included.
+    pub fn face_ids(&self) -> Ids<FaceId> {
+        Ids::new(self.faces.len(), FaceId)
+    }
+    /// The ids of the halfedges that exist now.
+    pub fn halfedge_ids(&self) -> Ids<HalfedgeId> {
+        Ids::new(self.halfedges.len(), HalfedgeId)
+    }
+
+    /// Caps the number of elements the mesh may hold: creating one more than
+    /// `limit` panics with a message saying so. The grader uses it to stop
+    /// code that splits without end before it eats the machine's memory.
+    pub fn set_element_budget(&mut self, limit: Option<usize>) {
+        self.element_budget = limit;
+    }
+
+    fn charge_one(&self) {
+        if let Some(limit) = self.element_budget {
+            if self.num_elements() >= limit {
+                panic!(
+                    "the mesh grew past {limit} elements (vertices + edges + faces + halfedges): \
+                     is something splitting without end?"
+                );
+            }
+        }
+    }
+
+    /// Adds a vertex at `pos` whose `halfedge` is not set yet.
+    pub fn new_vertex(&mut self, pos: DVec3) -> VertexId {
+        self.charge_one();
+        self.vertices.push(Vertex {
+            pos,
+            new_pos: DVec3::ZERO,
+            is_new: false,
+            halfedge: HalfedgeId::NONE,
+        });
+        VertexId::from_index(self.vertices.len() - 1)
+    }
+
+    /// Adds an edge whose `halfedge` is not set yet.
+    pub fn new_edge(&mut self) -> EdgeId {
+        self.charge_one();
+        self.edges.push(Edge {
+            halfedge: HalfedgeId::NONE,
+            new_pos: DVec3::ZERO,
+            is_new: false,
+        });
+        EdgeId::from_index(self.edges.len() - 1)
+    }
+
+    /// Adds a real (not boundary) face whose `halfedge` is not set yet.
+    pub fn new_face(&mut self) -> FaceId {
+        self.new_face_with(false)
+    }
+
+    pub(crate) fn new_face_with(&mut self, is_boundary: bool) -> FaceId {
+        self.charge_one();
+        self.faces.push(Face {
+            halfedge: HalfedgeId::NONE,
+            is_boundary,
+        });
+        FaceId::from_index(self.faces.len() - 1)
+    }
+
+    /// Adds a halfedge whose fields are all unset: follow with
+    /// [`Mesh::set_neighbors`].
+    pub fn new_halfedge(&mut self) -> HalfedgeId {
+        self.charge_one();
+        self.halfedges.push(Halfedge {
+            twin: HalfedgeId::NONE,
+            next: HalfedgeId::NONE,
+            vertex: VertexId::NONE,
+            edge: EdgeId::NONE,
+            face: FaceId::NONE,
+        });
+        HalfedgeId::from_index(self.halfedges.len() - 1)
+    }
+
+    /// Sets all five fields of halfedge `h` at once, as Scotty3D's
+    /// `setNeighbors` does: writing them together makes it hard to forget one.
+    pub fn set_neighbors(
+        &mut self,
+        h: HalfedgeId,
+        next: HalfedgeId,
+        twin: HalfedgeId,
+        vertex: VertexId,
+        edge: EdgeId,
+        face: FaceId,
+    ) {
+        self[h] = Halfedge {
+            twin,
+            next,
+            vertex,
+            edge,
+            face,
+        };
+    }
+}
+
+macro_rules! arena_index {
+    ($id:ty, $record:ty, $field:ident, $kind:literal) => {
+        impl Index<$id> for Mesh {
+            type Output = $record;
+            fn index(&self, id: $id) -> &$record {
+                match self.$field.get(id.index()) {
+                    Some(record) => record,
+                    None => panic!(
+                        concat!(
+                            "there is no ",
+                            $kind,
+                            " {} (the mesh has {}): an unset or stale id?"
+                        ),
+                        id,
+                        self.$field.len()
+                    ),
+                }
+            }
+        }
+        impl IndexMut<$id> for Mesh {
+            fn index_mut(&mut self, id: $id) -> &mut $record {
+                let len = self.$field.len();
+                match self.$field.get_mut(id.index()) {
+                    Some(record) => record,
+                    None => panic!(
+                        concat!(
+                            "there is no ",
+                            $kind,
+                            " {} (the mesh has {}): an unset or stale id?"
+                        ),
+                        id, len
+                    ),
+                }
+            }
+        }
+    };
+}
+
+arena_index!(VertexId, Vertex, vertices, "vertex");
+arena_index!(EdgeId, Edge, edges, "edge");
+arena_index!(FaceId, Face, faces, "face");
+arena_index!(HalfedgeId, Halfedge, halfedges, "halfedge");

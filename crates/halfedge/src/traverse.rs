@@ -1,0 +1,103 @@
+//! Walking the mesh: around a face, around a vertex, across an edge.
+//!
+//! Every walk is bounded by the number of halfedges, so a broken `next` or
+//! `twin` link makes it panic with a message instead of looping forever.
+
+use crate::ids::{EdgeId, FaceId, HalfedgeId, VertexId};
+use crate::mesh::Mesh;
+
+impl Mesh {
+    /// Follows `step` from `start` until it comes back, collecting every
+    /// halfedge on the way (`start` first).
+    fn orbit(
+        &self,
+        start: HalfedgeId,
+        step: impl Fn(HalfedgeId) -> HalfedgeId,
+        around: &dyn std::fmt::Display,
+    ) -> Vec<HalfedgeId> {
+        let mut out = vec![start];
+        let mut h = step(start);
+        while h != start {
+            if out.len() > self.num_halfedges() {
+                panic!(
+                    "the walk around {around} never came back to where it started: \
+                     the mesh's links are broken (call mesh.validate() to find where)"
+                );
+            }
+            out.push(h);
+            h = step(h);
+        }
+        out
+    }
+
+    /// The halfedges around face `f`, counter-clockwise, starting with
+    /// `mesh[f].halfedge`.
+    pub fn face_halfedges(&self, f: FaceId) -> Vec<HalfedgeId> {
+        self.orbit(self[f].halfedge, |h| self[h].next, &f)
+    }
+
+    /// The vertices of face `f` in order.
+    pub fn face_vertices(&self, f: FaceId) -> Vec<VertexId> {
+        self.face_halfedges(f)
+            .into_iter()
+            .map(|h| self[h].vertex)
+            .collect()
+    }
+
+    /// The number of sides of face `f` (3 for a triangle).
+    pub fn face_degree(&self, f: FaceId) -> usize {
+        self.face_halfedges(f).len()
+    }
+
+    /// The halfedges that start at `v`, one per incident edge, starting with
+    /// `mesh[v].halfedge` and turning by `twin` then `next`.
+    pub fn vertex_halfedges(&self, v: VertexId) -> Vec<HalfedgeId> {
+        self.orbit(self[v].halfedge, |h| self[self[h].twin].next, &v)
+    }
+
+    /// The vertices joined to `v` by an edge, in the order of
+    /// [`Mesh::vertex_halfedges`].
+    pub fn vertex_neighbors(&self, v: VertexId) -> Vec<VertexId> {
+        self.vertex_halfedges(v)
+            .into_iter()
+            .map(|h| self.halfedge_dst(h))
+            .collect()
+    }
+
+    /// The number of edges at `v` (boundary edges included).
+    pub fn vertex_degree(&self, v: VertexId) -> usize {
+        self.vertex_halfedges(v).len()
+    }
+
+    /// Whether `v` lies on a hole: one of the faces around it is a boundary face.
+    pub fn vertex_on_boundary(&self, v: VertexId) -> bool {
+        self.vertex_halfedges(v)
+            .into_iter()
+            .any(|h| self[self[h].face].is_boundary)
+    }
+
+    /// Whether edge `e` borders a hole.
+    pub fn edge_on_boundary(&self, e: EdgeId) -> bool {
+        let h = self[e].halfedge;
+        self[self[h].face].is_boundary || self[self[self[h].twin].face].is_boundary
+    }
+
+    /// The two ends of edge `e`: first the start of `mesh[e].halfedge`.
+    pub fn edge_vertices(&self, e: EdgeId) -> (VertexId, VertexId) {
+        let h = self[e].halfedge;
+        (self[h].vertex, self.halfedge_dst(h))
+    }
+
+    /// The vertex halfedge `h` points to (where its twin starts).
+    pub fn halfedge_dst(&self, h: HalfedgeId) -> VertexId {
+        self[self[h].twin].vertex
+    }
+
+    /// The edge joining `a` and `b`, if there is one.
+    pub fn find_edge(&self, a: VertexId, b: VertexId) -> Option<EdgeId> {
+        self.vertex_halfedges(a)
+            .into_iter()
+            .find(|&h| self.halfedge_dst(h) == b)
+            .map(|h| self[h].edge)
+    }
+}

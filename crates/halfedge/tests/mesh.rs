@@ -1,0 +1,239 @@
+//! Ids, traversal helpers, creation, the growth budget, export and OBJ.
+
+use std::panic;
+
+use halfedge::{shapes, DVec3, EdgeId, FaceId, HalfedgeId, Mesh, VertexId};
+
+#[test]
+fn ids_print_with_their_kind() {
+    assert_eq!(VertexId(12).to_string(), "v12");
+    assert_eq!(EdgeId(7).to_string(), "e7");
+    assert_eq!(FaceId(3).to_string(), "f3");
+    assert_eq!(HalfedgeId(40).to_string(), "h40");
+    assert_eq!(format!("{:?}", HalfedgeId::NONE), "h-none");
+    assert!(VertexId(1) < VertexId(2));
+}
+
+#[test]
+fn id_iterators_do_not_borrow_and_skip_new_elements() {
+    let mut m = shapes::lab_object("cube").unwrap();
+    let mut visited = 0;
+    for e in m.edge_ids() {
+        visited += 1;
+        let v = m.new_vertex(m.edge_center(e));
+        m[v].is_new = true;
+    }
+    assert_eq!(visited, 18);
+    assert_eq!(m.num_vertices(), 8 + 18);
+    assert_eq!(m.vertex_ids().len(), 26);
+}
+
+#[test]
+fn traversal_helpers_on_the_lab_cube() {
+    let m = shapes::lab_object("cube").unwrap();
+    let total: usize = m.vertex_ids().map(|v| m.vertex_degree(v)).sum();
+    assert_eq!(total, 2 * m.num_edges());
+    for v in m.vertex_ids() {
+        let ns = m.vertex_neighbors(v);
+        assert_eq!(ns.len(), m.vertex_degree(v));
+        for &n in &ns {
+            assert!(m.find_edge(v, n).is_some());
+            assert!(m.vertex_neighbors(n).contains(&v), "edges go both ways");
+        }
+        assert!(!m.vertex_on_boundary(v));
+    }
+    for f in m.face_ids() {
+        assert_eq!(m.face_degree(f), 3);
+        let hs = m.face_halfedges(f);
+        assert_eq!(hs[0], m[f].halfedge);
+        for w in 0..3 {
+            assert_eq!(m[hs[w]].next, hs[(w + 1) % 3]);
+        }
+    }
+    // The lab cube's first face is "f 3 1 2": vertices 2, 0, 1.
+    assert_eq!(
+        m.face_vertices(FaceId(0)),
+        vec![VertexId(2), VertexId(0), VertexId(1)]
+    );
+    assert_eq!(m.edge_between(2, 0), m.find_edge(VertexId(0), VertexId(2)));
+    assert!(
+        m.edge_between(0, 5).is_none(),
+        "0 and 5 are opposite corners of a side"
+    );
+    assert!(m.edge_between(0, 99).is_none());
+}
+
+#[test]
+fn describe_shows_links() {
+    let m = shapes::lab_object("cube").unwrap();
+    let h = HalfedgeId(0);
+    let r = m[h];
+    assert_eq!(
+        m.describe(h),
+        format!(
+            "h0: from v2 to v0, twin {}, next h1, edge e0, face f0",
+            r.twin
+        )
+    );
+    assert!(m
+        .describe(VertexId(0))
+        .starts_with("v0: at (-0.5, -0.5, -0.5)"));
+    assert!(m.describe(EdgeId(0)).starts_with("e0: halfedges h0 and "));
+    assert_eq!(m.describe(FaceId(0)), "f0: halfedge h0");
+    let g = shapes::grid(1, 1);
+    assert!(g.describe(FaceId(2)).starts_with("f2: boundary, "));
+}
+
+#[test]
+fn set_neighbors_sets_all_five() {
+    let mut m = Mesh::new();
+    let h = m.new_halfedge();
+    let t = m.new_halfedge();
+    let v = m.new_vertex(DVec3::ZERO);
+    let e = m.new_edge();
+    let f = m.new_face();
+    m.set_neighbors(h, t, t, v, e, f);
+    let r = m[h];
+    assert_eq!((r.next, r.twin, r.vertex, r.edge, r.face), (t, t, v, e, f));
+    assert!(m[t].next.is_none(), "t untouched");
+}
+
+#[test]
+fn growth_budget_panics_with_a_message() {
+    let mut m = shapes::lab_object("cone").unwrap();
+    let limit = m.num_elements() + 2;
+    m.set_element_budget(Some(limit));
+    m.new_vertex(DVec3::ZERO);
+    m.new_edge();
+    let err = panic::catch_unwind(panic::AssertUnwindSafe(|| {
+        m.new_halfedge();
+    }))
+    .unwrap_err();
+    let msg = err.downcast_ref::<String>().unwrap();
+    assert!(
+        msg.starts_with(&format!("the mesh grew past {limit} elements")),
+        "{msg}"
+    );
+    m.set_element_budget(None);
+    m.new_halfedge();
+}
+
+#[test]
+fn indexing_a_missing_element_says_so() {
+    let m = shapes::lab_object("cone").unwrap();
+    let err = panic::catch_unwind(|| m[VertexId(70)].pos).unwrap_err();
+    let msg = err.downcast_ref::<String>().unwrap();
+    assert_eq!(
+        msg,
+        "there is no vertex v70 (the mesh has 7): an unset or stale id?"
+    );
+}
+
+#[test]
+fn broken_links_make_walks_panic_not_hang() {
+    let mut m = shapes::lab_object("cube").unwrap();
+    // A face loop that never comes back to the face's halfedge.
+    let f = FaceId(0);
+    let h0 = m[f].halfedge;
+    let h1 = m[h0].next;
+    m[h1].next = h1;
+    let err = panic::catch_unwind(|| m.face_halfedges(f)).unwrap_err();
+    let msg = err.downcast_ref::<String>().unwrap();
+    assert!(
+        msg.starts_with("the walk around f0 never came back"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn export_faces_and_edges() {
+    let g = shapes::grid(1, 1);
+    let (p, faces) = g.to_faces();
+    assert_eq!(p.len(), 4);
+    assert_eq!(faces, vec![vec![0, 1, 3], vec![0, 3, 2]]);
+    let mut edges = g.edge_list();
+    edges.sort();
+    assert_eq!(edges, vec![[0, 1], [0, 2], [0, 3], [1, 3], [2, 3]]);
+}
+
+fn awkward_positions(mesh: &mut Mesh) {
+    let odd = [
+        0.1 + 0.2,
+        -0.0,
+        1e-300,
+        -123456789.12345679,
+        f64::MIN_POSITIVE,
+        1.0 / 3.0,
+        2f64.sqrt(),
+        1e21,
+    ];
+    for (i, v) in mesh.vertex_ids().enumerate() {
+        let k = odd[i % odd.len()];
+        mesh[v].pos = DVec3::new(k, mesh[v].pos.y * k, mesh[v].pos.z + k);
+    }
+}
+
+#[test]
+fn obj_round_trip_changes_nothing() {
+    let mut m = shapes::icosphere(2);
+    awkward_positions(&mut m);
+    let text = m.to_obj_string();
+    let back = Mesh::from_obj_str(&text, "round.obj").unwrap();
+    let (p1, f1) = m.to_faces();
+    let (p2, f2) = back.to_faces();
+    assert_eq!(f1, f2);
+    for (a, b) in p1.iter().zip(&p2) {
+        for k in 0..3 {
+            assert_eq!(a[k].to_bits(), b[k].to_bits(), "{a} vs {b}");
+        }
+    }
+    assert_eq!(back.to_obj_string(), text);
+}
+
+#[test]
+fn obj_file_round_trip() {
+    let m = shapes::torus(5, 4, 1.0, 0.25);
+    let path = std::env::temp_dir().join(format!("halfedge-test-{}.obj", std::process::id()));
+    m.write_obj_file(&path).unwrap();
+    let back = Mesh::from_obj_file(&path).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(back.to_faces(), m.to_faces());
+}
+
+/// tobj numbers vertices by first use; renumber ours the same way and the
+/// two parsers must agree on every position and face.
+#[test]
+fn reader_agrees_with_tobj_on_the_lab_objects() {
+    for name in shapes::LAB_OBJECTS {
+        let text = shapes::lab_object_obj(name).unwrap();
+        let ours = Mesh::from_obj_str(text, name).unwrap();
+        let (positions, faces) = ours.to_faces();
+
+        let opts = tobj::LoadOptions {
+            single_index: false,
+            triangulate: false,
+            ..Default::default()
+        };
+        let (models, _) =
+            tobj::load_obj_buf(&mut text.as_bytes(), &opts, |_| Ok(Default::default())).unwrap();
+        assert_eq!(models.len(), 1, "{name}");
+        let theirs = &models[0].mesh;
+
+        let mut order: Vec<usize> = Vec::new();
+        let mut renumber = vec![usize::MAX; positions.len()];
+        let mut renumbered = Vec::new();
+        for &i in faces.iter().flatten() {
+            if renumber[i] == usize::MAX {
+                renumber[i] = order.len();
+                order.push(i);
+            }
+            renumbered.push(renumber[i] as u32);
+        }
+        assert_eq!(renumbered, theirs.indices, "{name}: faces");
+        let ours_flat: Vec<f64> = order
+            .iter()
+            .flat_map(|&i| positions[i].to_array())
+            .collect();
+        assert_eq!(ours_flat, theirs.positions, "{name}: positions");
+    }
+}

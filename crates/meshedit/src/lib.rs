@@ -1,0 +1,1 @@
+//! The lab exercise (filled in by the student-crate issue).
