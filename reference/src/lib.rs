@@ -1,1 +1,27 @@
-//! The model solution and TA tool (filled in by the reference issue).
+//! # The reference: model solution and TA tool
+//!
+//! Never shipped to students (`handout` leaves this crate out).
+//!
+//! - [`solution`]: the model answer, in the lab's four steps, plus boundary
+//!   rules and a choice of weights.
+//! - [`mutants`]: other correct answers and one wrong answer per common
+//!   mistake, for the fixtures' hints and the grader's tests.
+//! - [`cases`]: the built-in cases and turning a case into a fixture.
+//! - [`handout`]: exporting the student workspace.
+//!
+//! The command line (`cargo run -p reference -- --help`) is in `main.rs`.
+
+pub mod cases;
+pub mod handout;
+pub mod mutants;
+pub mod solution;
+
+use std::path::PathBuf;
+
+/// The lab's root folder (the workspace root), found from this crate.
+pub fn lab_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("reference/ has a parent")
+        .to_path_buf()
+}

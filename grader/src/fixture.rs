@@ -1,0 +1,360 @@
+//! The fixture format: one JSON file per case, written by the reference's
+//! `fixtures` command and read here. Documented in `docs/fixtures.md`.
+//!
+//! Files are written by [`to_json_text`]: stable key order, one vertex or
+//! edge per line, floats as shortest round-trip decimals, so regenerating
+//! unchanged fixtures rewrites the same bytes and a diff shows what moved.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+/// The schema version this grader reads and the reference writes.
+pub const SCHEMA: u32 = 1;
+
+/// One graded case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fixture {
+    pub schema: u32,
+    /// Unique, also the file name without `.json`: `cube-flip`.
+    pub name: String,
+    /// The mesh's name in messages: `cube`.
+    pub object: String,
+    pub group: Group,
+    pub input: MeshData,
+    pub operation: Operation,
+    /// The vertex weight rule the expected result used.
+    pub weights: WeightRule,
+    /// How far (Euclidean) a vertex may be from its expected position.
+    pub tolerance: f64,
+    pub expected: Expected,
+}
+
+/// Which set a case belongs to; also its folder under `fixtures/`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Group {
+    /// The four lab objects: these decide the verdict.
+    Lab,
+    /// Meshes with boundary: reported apart, counted only with `--bonus`.
+    Bonus,
+    /// Withheld from the handout; counted like `lab` when present.
+    Hidden,
+}
+
+impl Group {
+    pub const ALL: [Group; 3] = [Group::Lab, Group::Bonus, Group::Hidden];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Group::Lab => "lab",
+            Group::Bonus => "bonus",
+            Group::Hidden => "hidden",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WeightRule {
+    Warren,
+    Loop,
+}
+
+/// A mesh as indexed polygons.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshData {
+    pub positions: Vec<[f64; 3]>,
+    pub faces: Vec<Vec<usize>>,
+}
+
+/// What the case does to the input mesh. Edges are named by their two
+/// endpoints' input indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Operation {
+    Flip { edge: [usize; 2] },
+    Split { edge: [usize; 2] },
+    Subdivide { rounds: usize },
+}
+
+impl Operation {
+    /// The stage it tests, as `--stage` names it.
+    pub fn stage(self) -> Stage {
+        match self {
+            Operation::Flip { .. } => Stage::Flip,
+            Operation::Split { .. } => Stage::Split,
+            Operation::Subdivide { .. } => Stage::Subdivide,
+        }
+    }
+}
+
+/// The three functions, graded in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stage {
+    Flip,
+    Split,
+    Subdivide,
+}
+
+impl Stage {
+    pub fn function(self) -> &'static str {
+        match self {
+            Stage::Flip => "flip_edge",
+            Stage::Split => "split_edge",
+            Stage::Subdivide => "loop_subdivide",
+        }
+    }
+}
+
+/// The reference's result.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expected {
+    /// What the function returns: `null` for `loop_subdivide`.
+    pub returns: Option<Returns>,
+    pub positions: Vec<[f64; 3]>,
+    /// Every edge as a pair of indices into `positions`, smaller first, sorted.
+    pub edges: Vec<[usize; 2]>,
+    /// Results of known mistakes, so that a wrong answer that matches one can
+    /// be named. Each keeps the expected vertex numbering.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mistakes: Vec<Mistake>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Returns {
+    /// `None`: the operation must refuse and change nothing.
+    Refused,
+    /// `Some(e)` for the edge given, which now joins `ends` (input indices).
+    Edge { ends: [usize; 2] },
+    /// `Some(v)` for a new vertex at `position`, whose halfedge runs to one
+    /// of the split edge's ends.
+    Vertex { position: [f64; 3] },
+}
+
+/// What a known mistake produces: positions, edges, or both, where they
+/// differ from the expected result.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mistake {
+    pub id: String,
+    pub hint: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub positions: Option<Vec<[f64; 3]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub edges: Option<Vec<[usize; 2]>>,
+}
+
+/// Why fixtures could not be loaded: always names the file.
+#[derive(Debug)]
+pub struct FixtureError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+impl std::fmt::Display for FixtureError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.message)
+    }
+}
+
+impl std::error::Error for FixtureError {}
+
+impl Fixture {
+    /// Parses and checks one fixture file.
+    pub fn from_json(text: &str, path: &Path) -> Result<Fixture, FixtureError> {
+        let err = |message: String| FixtureError {
+            path: path.to_path_buf(),
+            message,
+        };
+        // Read the schema first, so an old or new file says so rather than
+        // failing on some field it does not have.
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| err(format!("not valid JSON: {e}")))?;
+        match value.get("schema").and_then(|s| s.as_u64()) {
+            Some(s) if s == SCHEMA as u64 => {}
+            Some(s) => {
+                return Err(err(format!(
+                    "schema {s}, but this grader reads schema {SCHEMA}: regenerate the fixtures \
+                     or update the grader"
+                )))
+            }
+            None => return Err(err("no \"schema\" number: is this a fixture file?".into())),
+        }
+        let fixture: Fixture =
+            serde_json::from_value(value).map_err(|e| err(format!("not a valid fixture: {e}")))?;
+        fixture.check().map_err(err)?;
+        Ok(fixture)
+    }
+
+    /// Consistency a corrupted or hand-edited file could break.
+    fn check(&self) -> Result<(), String> {
+        let nin = self.input.positions.len();
+        let nout = self.expected.positions.len();
+        if !(self.tolerance > 0.0 && self.tolerance.is_finite()) {
+            return Err(format!(
+                "tolerance {} is not a positive number",
+                self.tolerance
+            ));
+        }
+        let finite = |ps: &[[f64; 3]]| ps.iter().flatten().all(|x| x.is_finite());
+        if !finite(&self.input.positions) || !finite(&self.expected.positions) {
+            return Err("a position is not a finite number".into());
+        }
+        if let Some(face) = self
+            .input
+            .faces
+            .iter()
+            .find(|f| f.iter().any(|&i| i >= nin))
+        {
+            return Err(format!(
+                "input face {face:?} refers to a vertex past the {nin} input positions"
+            ));
+        }
+        if let Some(e) = self
+            .expected
+            .edges
+            .iter()
+            .find(|e| e[0] >= nout || e[1] >= nout)
+        {
+            return Err(format!(
+                "expected edge {e:?} refers to a vertex past the {nout} expected positions"
+            ));
+        }
+        let edge_ok = |[a, b]: [usize; 2]| a < nin && b < nin && a != b;
+        match self.operation {
+            Operation::Flip { edge } | Operation::Split { edge } if !edge_ok(edge) => {
+                return Err(format!(
+                    "operation edge {edge:?} does not name two input vertices"
+                ))
+            }
+            Operation::Subdivide { rounds: 0 } => {
+                return Err("subdivide with 0 rounds tests nothing".into())
+            }
+            _ => {}
+        }
+        for m in &self.expected.mistakes {
+            if m.positions.as_ref().is_some_and(|p| p.len() != nout) {
+                return Err(format!(
+                    "mistake {:?} has the wrong number of positions",
+                    m.id
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The file this fixture lives in, under the fixtures root.
+    pub fn relative_path(&self) -> PathBuf {
+        Path::new(self.group.name()).join(format!("{}.json", self.name))
+    }
+}
+
+/// Loads every `*.json` under `root/<group>/`, sorted by stage, then group,
+/// then name. A missing group folder is fine (the handout has no `hidden/`);
+/// a missing root or an unreadable file is an error.
+pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
+    if !root.is_dir() {
+        return Err(FixtureError {
+            path: root.to_path_buf(),
+            message: "no such fixtures folder (run from the lab's folder, or pass --fixtures DIR)"
+                .into(),
+        });
+    }
+    let mut all = Vec::new();
+    for group in Group::ALL {
+        let dir = root.join(group.name());
+        if !dir.is_dir() {
+            continue;
+        }
+        let entries = std::fs::read_dir(&dir).map_err(|e| FixtureError {
+            path: dir.clone(),
+            message: e.to_string(),
+        })?;
+        let mut paths: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "json"))
+            .collect();
+        paths.sort();
+        for path in paths {
+            let text = std::fs::read_to_string(&path).map_err(|e| FixtureError {
+                path: path.clone(),
+                message: format!("cannot read: {e}"),
+            })?;
+            let fixture = Fixture::from_json(&text, &path)?;
+            if fixture.group != group {
+                return Err(FixtureError {
+                    path,
+                    message: format!(
+                        "says group \"{}\" but lives in {}/",
+                        fixture.group.name(),
+                        group.name()
+                    ),
+                });
+            }
+            if fixture.relative_path().file_name() != path.file_name() {
+                return Err(FixtureError {
+                    path,
+                    message: format!("is named \"{}\" inside: rename one of them", fixture.name),
+                });
+            }
+            all.push(fixture);
+        }
+    }
+    all.sort_by(|a, b| {
+        (a.operation.stage(), a.group, &a.name).cmp(&(b.operation.stage(), b.group, &b.name))
+    });
+    Ok(all)
+}
+
+/// The fixture as the JSON text the reference writes: objects indented,
+/// arrays of numbers on one line.
+pub fn to_json_text(fixture: &Fixture) -> String {
+    let value = serde_json::to_value(fixture).expect("fixtures serialize");
+    let mut out = String::new();
+    write_value(&mut out, &value, 0);
+    out.push('\n');
+    out
+}
+
+fn write_value(out: &mut String, value: &serde_json::Value, indent: usize) {
+    use serde_json::Value;
+    let pad = |n: usize| "  ".repeat(n);
+    match value {
+        Value::Object(map) if !map.is_empty() => {
+            out.push_str("{\n");
+            for (i, (k, v)) in map.iter().enumerate() {
+                let _ = write!(out, "{}{}: ", pad(indent + 1), Value::String(k.clone()));
+                write_value(out, v, indent + 1);
+                out.push_str(if i + 1 < map.len() { ",\n" } else { "\n" });
+            }
+            let _ = write!(out, "{}}}", pad(indent));
+        }
+        Value::Array(items) if items.iter().any(|v| v.is_array() || v.is_object()) => {
+            out.push_str("[\n");
+            for (i, v) in items.iter().enumerate() {
+                out.push_str(&pad(indent + 1));
+                write_value(out, v, indent + 1);
+                out.push_str(if i + 1 < items.len() { ",\n" } else { "\n" });
+            }
+            let _ = write!(out, "{}]", pad(indent));
+        }
+        Value::Array(items) => {
+            out.push('[');
+            for (i, v) in items.iter().enumerate() {
+                if i > 0 {
+                    out.push_str(", ");
+                }
+                out.push_str(&v.to_string());
+            }
+            out.push(']');
+        }
+        other => out.push_str(&other.to_string()),
+    }
+}

@@ -1,0 +1,587 @@
+//! Judging one case: turns the child's report into the lab's messages, in
+//! the lab's order, with details and a hint under a failure.
+
+use serde::Serialize;
+
+use crate::child::{Counts, MeshResult, Outcome, Returned};
+use crate::fixture::{Expected, Fixture, Group, Operation, Returns, Stage};
+use crate::matching::{self, VertexMatch};
+use crate::runner::{ChildReport, Run};
+
+/// How a line is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Level {
+    Info,
+    Warn,
+    /// An indented detail under a warning.
+    Detail,
+}
+
+/// One line of a case's report, with the place in the grader that said it
+/// (printed in the lab's `file.rs:LINE [info]` format).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Entry {
+    pub level: Level,
+    pub text: String,
+    #[serde(skip)]
+    pub file: &'static str,
+    #[serde(skip)]
+    pub line: u32,
+}
+
+/// A case's verdict and everything said about it.
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseReport {
+    pub name: String,
+    pub object: String,
+    pub group: Group,
+    pub stage: Stage,
+    pub passed: bool,
+    pub entries: Vec<Entry>,
+    /// What the student's code printed while it ran.
+    pub output: String,
+}
+
+struct Log {
+    entries: Vec<Entry>,
+    passed: bool,
+}
+
+macro_rules! say {
+    ($log:expr, $level:ident, $($arg:tt)*) => {
+        $log.push(Level::$level, format!($($arg)*), file!(), line!())
+    };
+}
+
+impl Log {
+    fn push(&mut self, level: Level, text: String, file: &'static str, line: u32) {
+        if level == Level::Warn {
+            self.passed = false;
+        }
+        self.entries.push(Entry {
+            level,
+            text,
+            file,
+            line,
+        });
+    }
+}
+
+fn fmt_p(p: [f64; 3]) -> String {
+    format!("({:.6}, {:.6}, {:.6})", p[0], p[1], p[2])
+}
+
+/// `cube` for one round, `cube (2 rounds)` for more; `cube, edge 0-1` for
+/// flips and splits.
+fn subject(f: &Fixture) -> String {
+    match f.operation {
+        Operation::Subdivide { rounds: 1 } => f.object.clone(),
+        Operation::Subdivide { rounds } => format!("{} ({rounds} rounds)", f.object),
+        Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } => {
+            format!("{}, edge {a}-{b}", f.object)
+        }
+    }
+}
+
+/// What the lab calls the operation in "start testing X for ...".
+fn activity(stage: Stage) -> &'static str {
+    match stage {
+        Stage::Flip => "flip_edge",
+        Stage::Split => "split_edge",
+        Stage::Subdivide => "subdivision",
+    }
+}
+
+/// Judges a case from its child's report.
+pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
+    let stage = f.operation.stage();
+    let mut log = Log {
+        entries: Vec::new(),
+        passed: true,
+    };
+    let what = subject(f);
+    say!(log, Info, "start testing {} for {what}", activity(stage));
+    judge_run(f, &child.run, &mut log);
+    say!(log, Info, "end testing {} for {what}", activity(stage));
+    CaseReport {
+        name: f.name.clone(),
+        object: f.object.clone(),
+        group: f.group,
+        stage,
+        passed: log.passed,
+        entries: log.entries,
+        output: child.output.clone(),
+    }
+}
+
+fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
+    let function = f.operation.stage().function();
+    match run {
+        Run::TimedOut(limit) => {
+            say!(
+                log,
+                Warn,
+                "{function} did not finish within {} s",
+                limit.as_secs_f64()
+            );
+            say!(log, Detail, "an endless loop? a walk around a face or vertex that never gets back to its start?");
+        }
+        Run::StackOverflow => {
+            say!(log, Warn, "{function} overflowed the stack");
+            say!(log, Detail, "a function that calls itself without end?");
+        }
+        Run::Signal(sig) => {
+            say!(log, Warn, "{function} crashed: {}", signal_name(*sig));
+        }
+        Run::Exited(code) => {
+            let code = code.map_or("unknown".to_string(), |c| c.to_string());
+            say!(
+                log,
+                Warn,
+                "{function} ended the program (exit status {code}) before returning"
+            );
+            say!(log, Detail, "does your code call std::process::exit?");
+        }
+        Run::Done(Outcome::Setup { message }) => {
+            say!(log, Warn, "the case could not be set up: {message}");
+            say!(
+                log,
+                Detail,
+                "this is a fixture problem, not your code: tell a TA"
+            );
+        }
+        Run::Done(Outcome::Panicked { message, location }) => {
+            say!(log, Warn, "{function} panicked: {message}");
+            if let Some(loc) = location {
+                say!(log, Detail, "at {loc}");
+            }
+            if message.starts_with("not yet implemented") {
+                say!(
+                    log,
+                    Detail,
+                    "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
+                );
+            } else if message.starts_with("the mesh grew past") {
+                say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
+            }
+        }
+        Run::Done(Outcome::Finished {
+            returned,
+            before,
+            after,
+            invalid,
+            mesh,
+        }) => judge_finished(
+            f,
+            returned,
+            *before,
+            *after,
+            invalid.as_deref(),
+            mesh.as_ref(),
+            log,
+        ),
+    }
+}
+
+fn signal_name(sig: i32) -> String {
+    let name = match sig {
+        6 => "SIGABRT: the program aborted",
+        9 => "SIGKILL: killed, perhaps for using too much memory",
+        11 => "SIGSEGV: invalid memory access",
+        4 => "SIGILL: illegal instruction",
+        8 => "SIGFPE: arithmetic error",
+        _ => "",
+    };
+    if name.is_empty() {
+        format!("signal {sig}")
+    } else {
+        format!("signal {sig} ({name})")
+    }
+}
+
+fn judge_finished(
+    f: &Fixture,
+    returned: &Returned,
+    before: Counts,
+    after: Counts,
+    invalid: Option<&str>,
+    mesh: Option<&MeshResult>,
+    log: &mut Log,
+) {
+    let stage = f.operation.stage();
+    let function = stage.function();
+    if !check_returned(f, returned, log) {
+        return;
+    }
+    say!(log, Info, "validate the mesh...");
+    if let Some(problem) = invalid {
+        let result_of = match stage {
+            Stage::Subdivide => "subdivision".to_string(),
+            _ => function.to_string(),
+        };
+        say!(
+            log,
+            Warn,
+            "the result of {result_of} is a invalid mesh: {problem}"
+        );
+        return;
+    }
+    say!(log, Info, "passed");
+    let Some(mesh) = mesh else {
+        say!(log, Warn, "the mesh validated but could not be read back");
+        return;
+    };
+    if !check_counts(f, before, after, log) {
+        return;
+    }
+    let Some(matched) = compare_vertices(f, mesh, before, log) else {
+        return;
+    };
+    if !compare_edges(&f.expected, mesh, &matched, log) {
+        return;
+    }
+    check_returned_shape(f, returned, mesh, &matched, log);
+}
+
+/// Whether the case's edge borders a hole in the input: it is used by one
+/// face only.
+fn on_boundary(f: &Fixture) -> bool {
+    let (Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] }) = f.operation else {
+        return false;
+    };
+    let uses = f
+        .input
+        .faces
+        .iter()
+        .filter(|face| {
+            (0..face.len()).any(|i| {
+                let (x, y) = (face[i], face[(i + 1) % face.len()]);
+                (x, y) == (a, b) || (x, y) == (b, a)
+            })
+        })
+        .count();
+    uses == 1
+}
+
+/// The return value, judged before anything else: it says most about a flip
+/// or split that did the wrong thing altogether.
+fn check_returned(f: &Fixture, returned: &Returned, log: &mut Log) -> bool {
+    let function = f.operation.stage().function();
+    match (&f.expected.returns, returned) {
+        (None, _) => true,
+        (Some(Returns::Refused), Returned::Nothing) => true,
+        (Some(Returns::Refused), _) => {
+            say!(log, Warn, "{function} changed a boundary edge: it must return None and leave the mesh unchanged");
+            false
+        }
+        (Some(Returns::Vertex { .. }), Returned::Nothing) if on_boundary(f) => {
+            say!(log, Warn, "split_edge returned None for a boundary edge: it must divide the one real triangle beside it");
+            false
+        }
+        (Some(_), Returned::Nothing) => {
+            say!(
+                log,
+                Warn,
+                "{function} returned None for an edge between two triangles: it must {} it",
+                if f.operation.stage() == Stage::Flip {
+                    "flip"
+                } else {
+                    "split"
+                }
+            );
+            false
+        }
+        (Some(Returns::Edge { .. }), Returned::Edge { given, got }) if given != got => {
+            say!(log, Warn, "flip_edge returned Some(e{got}), but it must return the edge it was given (e{given})");
+            false
+        }
+        (Some(Returns::Vertex { position }), Returned::Vertex { id, position: got }) => {
+            let Some(got) = got else {
+                say!(
+                    log,
+                    Warn,
+                    "split_edge returned v{id}, which is not a vertex of the mesh"
+                );
+                return false;
+            };
+            let off = matching::nearest(&[*got], *position).map_or(f64::INFINITY, |n| n.1);
+            if off > f.tolerance {
+                say!(
+                    log,
+                    Warn,
+                    "split vertex is not at the midpoint of the edge: v{id} is at {}",
+                    fmt_p(*got)
+                );
+                say!(
+                    log,
+                    Detail,
+                    "the midpoint is {} ({off:.6} away)",
+                    fmt_p(*position)
+                );
+                return false;
+            }
+            true
+        }
+        _ => true,
+    }
+}
+
+/// Flips and splits add an exact number of elements.
+fn check_counts(f: &Fixture, before: Counts, after: Counts, log: &mut Log) -> bool {
+    let function = f.operation.stage().function();
+    let expected = match (&f.operation, &f.expected.returns) {
+        (Operation::Flip { .. }, _) | (_, Some(Returns::Refused)) => before,
+        (Operation::Split { .. }, _) => {
+            // Split adds one vertex, an edge for the other half of the old
+            // one, and an edge and a face per triangle it divides.
+            let divided = f.expected.edges.len().saturating_sub(before.edges + 1);
+            Counts {
+                vertices: before.vertices + 1,
+                edges: before.edges + 1 + divided,
+                faces: before.faces + divided,
+                halfedges: before.halfedges + 2 + 2 * divided,
+            }
+        }
+        (Operation::Subdivide { .. }, _) => return true,
+    };
+    if after == expected {
+        return true;
+    }
+    let c = |c: Counts| {
+        format!(
+            "{} vertices, {} edges, {} faces, {} halfedges",
+            c.vertices, c.edges, c.faces, c.halfedges
+        )
+    };
+    match f.operation {
+        Operation::Flip { .. } => say!(
+            log,
+            Warn,
+            "flip_edge added or removed elements: a flip only relinks"
+        ),
+        _ if f.expected.returns == Some(Returns::Refused) => {
+            say!(
+                log,
+                Warn,
+                "{function} added or removed elements on an edge it must refuse"
+            )
+        }
+        _ => say!(log, Warn, "split_edge added the wrong number of elements"),
+    }
+    say!(log, Detail, "before: {}", c(before));
+    say!(log, Detail, "after:  {}", c(after));
+    say!(log, Detail, "should: {}", c(expected));
+    false
+}
+
+fn compare_vertices(
+    f: &Fixture,
+    mesh: &MeshResult,
+    before: Counts,
+    log: &mut Log,
+) -> Option<VertexMatch> {
+    let expected = &f.expected;
+    say!(log, Info, "compare all vertices...");
+    let (got, want) = (mesh.positions.len(), expected.positions.len());
+    if got != want {
+        say!(
+            log,
+            Warn,
+            "number of vertices is wrong: {got} (should be {want})"
+        );
+        if let Operation::Subdivide { .. } = f.operation {
+            if got == before.vertices {
+                say!(log, Detail, "hint: no vertex was added: does loop_subdivide call split_edge on every old edge?");
+            } else if got > want {
+                say!(log, Detail, "hint: more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.");
+            } else {
+                say!(log, Detail, "hint: fewer vertices than one per old edge: was every old edge split exactly once?");
+            }
+        }
+        return None;
+    }
+    let m = matching::match_vertices(&mesh.positions, &expected.positions, f.tolerance);
+    if !m.is_perfect() {
+        say!(
+            log,
+            Warn,
+            "at least one of the vertices has incorrect position"
+        );
+        let wrong = m.unmatched_expected.len();
+        say!(
+            log,
+            Detail,
+            "{wrong} of {want} expected vertices have no vertex of yours within {} of them",
+            f.tolerance
+        );
+        if let Some(&i) = m.unmatched_expected.first() {
+            let p = expected.positions[i];
+            say!(log, Detail, "expected a vertex at {}", fmt_p(p));
+            if let Some((j, d)) = matching::nearest(&mesh.positions, p) {
+                say!(
+                    log,
+                    Detail,
+                    "your nearest vertex is v{j} at {} ({d:.6} away)",
+                    fmt_p(mesh.positions[j])
+                );
+            }
+        }
+        for mistake in &expected.mistakes {
+            if let Some(ps) = &mistake.positions {
+                if matching::same_positions(&mesh.positions, ps, f.tolerance) {
+                    say!(log, Detail, "hint: {}", mistake.hint);
+                    break;
+                }
+            }
+        }
+        return None;
+    }
+    say!(log, Info, "passed");
+    Some(m)
+}
+
+fn compare_edges(expected: &Expected, mesh: &MeshResult, m: &VertexMatch, log: &mut Log) -> bool {
+    say!(log, Info, "compare all edges...");
+    let (got, want) = (mesh.edges.len(), expected.edges.len());
+    if got != want {
+        say!(
+            log,
+            Warn,
+            "number of edges is wrong: {got} (should be {want})"
+        );
+        return false;
+    }
+    let mine = matching::mapped_edges(&mesh.edges, m);
+    let diff = matching::diff_edges(&mine, &expected.edges);
+    if diff.is_empty() && mine.len() == want {
+        say!(log, Info, "passed");
+        return true;
+    }
+    say!(
+        log,
+        Warn,
+        "at least one of the edges connects incorrect vertices"
+    );
+    // Name student vertices: expected index -> student id.
+    let mut student_of = vec![0; expected.positions.len()];
+    for (s, e) in m.to_expected.iter().enumerate() {
+        if let Some(e) = e {
+            student_of[*e] = s;
+        }
+    }
+    let p = |i: usize| fmt_p(expected.positions[i]);
+    if let Some(&[a, b]) = diff.missing.first() {
+        say!(
+            log,
+            Detail,
+            "missing: an edge between v{} {} and v{} {}",
+            student_of[a],
+            p(a),
+            student_of[b],
+            p(b)
+        );
+    }
+    if let Some(&[a, b]) = diff.extra.first() {
+        say!(
+            log,
+            Detail,
+            "extra: your edge between v{} {} and v{} {}",
+            student_of[a],
+            p(a),
+            student_of[b],
+            p(b)
+        );
+    }
+    if mine.len() != want {
+        say!(
+            log,
+            Detail,
+            "two of your edges join the same pair of vertices"
+        );
+    }
+    for mistake in &expected.mistakes {
+        if let Some(edges) = &mistake.edges {
+            if matching::diff_edges(&mine, edges).is_empty() {
+                say!(log, Detail, "hint: {}", mistake.hint);
+                break;
+            }
+        }
+    }
+    false
+}
+
+/// What the returned element looks like in the result: the flipped edge's
+/// new ends, the split vertex's halfedge.
+fn check_returned_shape(
+    f: &Fixture,
+    returned: &Returned,
+    mesh: &MeshResult,
+    m: &VertexMatch,
+    log: &mut Log,
+) {
+    let to_expected = |i: usize| m.to_expected.get(i).copied().flatten();
+    match (&f.expected.returns, returned, f.operation) {
+        (Some(Returns::Edge { ends }), Returned::Edge { got, .. }, _) => {
+            let got_ends = mesh
+                .returned_edge_ends
+                .map(|[a, b]| [to_expected(a), to_expected(b)]);
+            let want = [Some(ends[0].min(ends[1])), Some(ends[0].max(ends[1]))];
+            let got_sorted = got_ends.map(|[a, b]| [a.min(b), a.max(b)]);
+            if got_sorted != Some(want) {
+                say!(
+                    log,
+                    Warn,
+                    "the returned edge e{got} does not join the two vertices that faced it"
+                );
+            }
+        }
+        (
+            Some(Returns::Vertex { .. }),
+            Returned::Vertex { id, .. },
+            Operation::Split { edge: [a, b] },
+        ) => {
+            let leads = mesh.returned_vertex_leads_to.and_then(to_expected);
+            if leads != Some(a) && leads != Some(b) {
+                say!(
+                    log,
+                    Warn,
+                    "the new vertex's halfedge does not run along the split edge"
+                );
+                say!(log, Detail, "mesh[v{id}].halfedge must lead to vertex {a} or {b}, the ends of the edge that was split");
+            }
+        }
+        _ => {}
+    }
+}
+
+/// `loop_subdivide` is built on `split_edge` and `flip_edge`: when those
+/// failed their own cases, say so under each failed subdivision.
+pub fn note_dependencies(reports: &mut [CaseReport]) {
+    let broken: Vec<&'static str> = [Stage::Split, Stage::Flip]
+        .into_iter()
+        .filter(|&s| reports.iter().any(|r| r.stage == s && !r.passed))
+        .map(Stage::function)
+        .collect();
+    if broken.is_empty() {
+        return;
+    }
+    for r in reports
+        .iter_mut()
+        .filter(|r| r.stage == Stage::Subdivide && !r.passed)
+    {
+        let end = r.entries.pop();
+        let mut log = Log {
+            entries: std::mem::take(&mut r.entries),
+            passed: false,
+        };
+        say!(
+            log,
+            Detail,
+            "loop_subdivide calls your {}, which failed above: fix that first",
+            broken.join(" and ")
+        );
+        r.entries = log.entries;
+        r.entries.extend(end);
+    }
+}

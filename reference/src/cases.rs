@@ -1,0 +1,421 @@
+//! The built-in fixture cases, and turning any case into a fixture by
+//! running the reference on it.
+
+use std::path::{Path, PathBuf};
+
+use grader::fixture::{
+    self, Expected, Fixture, Group, MeshData, Mistake, Operation, Returns, WeightRule, SCHEMA,
+};
+use halfedge::{shapes, DVec3, EdgeId, Mesh};
+
+use crate::mutants;
+use crate::solution::{self, Weights};
+
+/// The tolerance of the built-in cases.
+pub const TOLERANCE: f64 = 1e-5;
+
+/// A case before it has an expected result.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub name: String,
+    pub object: String,
+    pub group: Group,
+    pub input: MeshData,
+    pub operation: Operation,
+    pub weights: Weights,
+    pub tolerance: f64,
+}
+
+/// The mesh as fixture data.
+pub fn mesh_data(mesh: &Mesh) -> MeshData {
+    let (positions, faces) = mesh.to_faces();
+    MeshData {
+        positions: positions.iter().map(|p| p.to_array()).collect(),
+        faces,
+    }
+}
+
+/// The fixture data as a mesh.
+pub fn data_mesh(data: &MeshData) -> Result<Mesh, halfedge::MeshError> {
+    let positions: Vec<DVec3> = data
+        .positions
+        .iter()
+        .map(|p| DVec3::from_array(*p))
+        .collect();
+    Mesh::from_faces(&positions, &data.faces)
+}
+
+fn ends(mesh: &Mesh, e: EdgeId) -> [usize; 2] {
+    let (a, b) = mesh.edge_vertices(e);
+    [a.index(), b.index()]
+}
+
+/// Flip edges chosen so that leaving a stale pointer behind shows: one
+/// whose start vertex points at it (a's `halfedge` must move) and one whose
+/// face points at the halfedge that changes face.
+///
+/// Both kinds prefer edges whose flip leaves a valid mesh: the two vertices
+/// facing the edge are not joined already (on a cone's apex they are).
+fn flip_edges(mesh: &Mesh) -> [[usize; 2]; 2] {
+    let flippable: Vec<EdgeId> = mesh
+        .edge_ids()
+        .filter(|&e| {
+            let h = mesh[e].halfedge;
+            let t = mesh[h].twin;
+            let c = mesh[mesh[mesh[h].next].next].vertex;
+            let d = mesh[mesh[mesh[t].next].next].vertex;
+            !mesh.edge_on_boundary(e) && mesh.find_edge(c, d).is_none()
+        })
+        .collect();
+    let pick = |wanted: &dyn Fn(EdgeId) -> bool| {
+        let e = flippable
+            .iter()
+            .copied()
+            .find(|&e| wanted(e))
+            .or(flippable.first().copied());
+        ends(mesh, e.expect("a mesh with a flippable edge"))
+    };
+    let stale_vertex = pick(&|e| {
+        let h = mesh[e].halfedge;
+        mesh[mesh[h].vertex].halfedge == h
+    });
+    let stale_face = pick(&|e| {
+        let h = mesh[e].halfedge;
+        mesh[mesh[h].face].halfedge == mesh[h].next
+    });
+    [stale_vertex, stale_face]
+}
+
+/// The first interior edge. (On a freshly built mesh no vertex points at
+/// a halfedge a split moves, so stale pointers show in subdivision instead.)
+fn split_edge_choice(mesh: &Mesh) -> [usize; 2] {
+    let e = mesh
+        .edge_ids()
+        .find(|&e| !mesh.edge_on_boundary(e))
+        .expect("an interior edge");
+    ends(mesh, e)
+}
+
+fn case(
+    name: &str,
+    object: &str,
+    group: Group,
+    mesh: &Mesh,
+    operation: Operation,
+    weights: Weights,
+) -> Case {
+    Case {
+        name: name.to_string(),
+        object: object.to_string(),
+        group,
+        input: mesh_data(mesh),
+        operation,
+        weights,
+        tolerance: TOLERANCE,
+    }
+}
+
+/// Flip and split cases on chosen edges, and subdivision after `rounds`.
+fn standard(
+    out: &mut Vec<Case>,
+    slug: &str,
+    object: &str,
+    group: Group,
+    mesh: &Mesh,
+    rounds: &[usize],
+    weights: Weights,
+) {
+    for (i, edge) in flip_edges(mesh).into_iter().enumerate() {
+        let name = format!("{slug}-flip-{}", i + 1);
+        out.push(case(
+            &name,
+            object,
+            group,
+            mesh,
+            Operation::Flip { edge },
+            weights,
+        ));
+    }
+    let edge = split_edge_choice(mesh);
+    out.push(case(
+        &format!("{slug}-split"),
+        object,
+        group,
+        mesh,
+        Operation::Split { edge },
+        weights,
+    ));
+    for &r in rounds {
+        let name = format!("{slug}-subdivide-{r}");
+        out.push(case(
+            &name,
+            object,
+            group,
+            mesh,
+            Operation::Subdivide { rounds: r },
+            weights,
+        ));
+    }
+}
+
+/// Every built-in case, with the weight rule for subdivision.
+pub fn builtin(weights: Weights) -> Vec<Case> {
+    let mut out = Vec::new();
+    for name in shapes::LAB_OBJECTS {
+        let mesh = shapes::lab_object(name).expect("a lab object");
+        standard(&mut out, name, name, Group::Lab, &mesh, &[1, 2], weights);
+    }
+
+    let grid = shapes::grid(3, 3);
+    standard(
+        &mut out,
+        "grid",
+        "open grid",
+        Group::Bonus,
+        &grid,
+        &[1, 2],
+        weights,
+    );
+    let rim = grid
+        .edge_ids()
+        .find(|&e| grid.edge_on_boundary(e))
+        .expect("a grid has a rim");
+    let rim = ends(&grid, rim);
+    out.push(case(
+        "grid-flip-boundary",
+        "open grid",
+        Group::Bonus,
+        &grid,
+        Operation::Flip { edge: rim },
+        weights,
+    ));
+    out.push(case(
+        "grid-split-boundary",
+        "open grid",
+        Group::Bonus,
+        &grid,
+        Operation::Split { edge: rim },
+        weights,
+    ));
+    let tube = shapes::cylinder(6, 2, 0.5, 1.0, false);
+    out.push(case(
+        "open-cylinder-subdivide-1",
+        "open cylinder",
+        Group::Bonus,
+        &tube,
+        Operation::Subdivide { rounds: 1 },
+        weights,
+    ));
+
+    let hidden: [(&str, &str, Mesh, &[usize]); 6] = [
+        ("icosphere", "icosphere", shapes::icosphere(1), &[1, 2]),
+        ("cube-2x2", "cube (2x2 sides)", shapes::cube(2), &[1]),
+        (
+            "torus-8x5",
+            "torus (8x5)",
+            shapes::torus(8, 5, 1.0, 0.3),
+            &[1],
+        ),
+        (
+            "cylinder-10",
+            "cylinder (10 sides)",
+            shapes::cylinder(10, 2, 0.6, 1.2, true),
+            &[1],
+        ),
+        ("cone-5", "cone (5 sides)", shapes::cone(5, 0.8, 1.5), &[2]),
+        (
+            "frustum-7",
+            "frustum (7 sides)",
+            shapes::frustum(7, 2, 1.0, 0.5, 1.5, true),
+            &[1],
+        ),
+    ];
+    for (slug, object, mesh, rounds) in hidden {
+        standard(
+            &mut out,
+            slug,
+            object,
+            Group::Hidden,
+            &mesh,
+            rounds,
+            weights,
+        );
+    }
+    out
+}
+
+fn rule(w: Weights) -> WeightRule {
+    match w {
+        Weights::Warren => WeightRule::Warren,
+        Weights::Loop => WeightRule::Loop,
+    }
+}
+
+fn from_rule(w: WeightRule) -> Weights {
+    match w {
+        WeightRule::Warren => Weights::Warren,
+        WeightRule::Loop => Weights::Loop,
+    }
+}
+
+fn positions(mesh: &Mesh) -> Vec<[f64; 3]> {
+    mesh.positions().iter().map(|p| p.to_array()).collect()
+}
+
+fn sorted_edges(mesh: &Mesh) -> Vec<[usize; 2]> {
+    let mut edges = mesh.edge_list();
+    edges.sort_unstable();
+    edges
+}
+
+/// Runs the reference on the case and returns the fixture, or why not.
+pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
+    let input = data_mesh(&case.input).map_err(|e| format!("input mesh: {e}"))?;
+    let mut mesh = input.clone();
+    let edge_at = |[a, b]: [usize; 2]| {
+        input
+            .edge_between(a, b)
+            .ok_or_else(|| format!("the input has no edge between vertices {a} and {b}"))
+    };
+    let returns = match case.operation {
+        Operation::Flip { edge } => {
+            let e = edge_at(edge)?;
+            match solution::flip_edge(&mut mesh, e) {
+                Some(e) => Some(Returns::Edge {
+                    ends: ends(&mesh, e),
+                }),
+                None => Some(Returns::Refused),
+            }
+        }
+        Operation::Split { edge } => {
+            let e = edge_at(edge)?;
+            match solution::split_edge(&mut mesh, e) {
+                Some(m) => Some(Returns::Vertex {
+                    position: mesh[m].pos.to_array(),
+                }),
+                None => Some(Returns::Refused),
+            }
+        }
+        Operation::Subdivide { rounds } => {
+            if !input.is_triangle_mesh() {
+                return Err("subdivision needs a triangle mesh".into());
+            }
+            for _ in 0..rounds {
+                solution::loop_subdivide_with(&mut mesh, case.weights);
+            }
+            None
+        }
+    };
+    mesh.validate()
+        .map_err(|e| format!("the reference broke the mesh: {e}"))?;
+    let mut expected = Expected {
+        returns,
+        positions: positions(&mesh),
+        edges: sorted_edges(&mesh),
+        mistakes: Vec::new(),
+    };
+    if let Operation::Subdivide { rounds: 1 } = case.operation {
+        let closed = input.edge_ids().all(|e| !input.edge_on_boundary(e));
+        if closed && case.weights == Weights::Warren {
+            expected.mistakes = mistakes(&input, &expected, case.tolerance);
+        }
+    }
+    Ok(Fixture {
+        schema: SCHEMA,
+        name: case.name.clone(),
+        object: case.object.clone(),
+        group: case.group,
+        input: case.input.clone(),
+        operation: case.operation,
+        weights: rule(case.weights),
+        tolerance: case.tolerance,
+        expected,
+    })
+}
+
+/// What each known mistake makes of the input, where it differs from the
+/// expected result enough for the grader to tell.
+fn mistakes(input: &Mesh, expected: &Expected, tolerance: f64) -> Vec<Mistake> {
+    let mut out = Vec::new();
+    for known in mutants::subdivision_mistakes() {
+        let mut mesh = input.clone();
+        (known.run)(&mut mesh);
+        // An invalid result stops the grader at validation: nothing to match.
+        if mesh.validate().is_err() {
+            continue;
+        }
+        let ps = positions(&mesh);
+        let edges = sorted_edges(&mesh);
+        let moved = !grader::matching::same_positions(&ps, &expected.positions, tolerance);
+        let relinked = edges != expected.edges;
+        if moved || relinked {
+            out.push(Mistake {
+                id: known.id.to_string(),
+                hint: known.hint.to_string(),
+                positions: moved.then_some(ps),
+                edges: (relinked && !moved).then_some(edges),
+            });
+        }
+    }
+    out
+}
+
+/// A fixture's case, to regenerate it.
+pub fn case_of(f: &Fixture) -> Case {
+    Case {
+        name: f.name.clone(),
+        object: f.object.clone(),
+        group: f.group,
+        input: f.input.clone(),
+        operation: f.operation,
+        weights: from_rule(f.weights),
+        tolerance: f.tolerance,
+    }
+}
+
+/// Every fixture file under `root` that the built-in cases do not cover:
+/// cases a TA added. Read leniently (the expected part may be stale), but
+/// a file that is not a fixture at all is an error naming it.
+pub fn added_cases(root: &Path, builtin: &[Case]) -> Result<Vec<Case>, String> {
+    let mut out = Vec::new();
+    for group in Group::ALL {
+        let dir = root.join(group.name());
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        let mut paths: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "json"))
+            .collect();
+        paths.sort();
+        for path in paths {
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            if builtin.iter().any(|c| c.name == stem && c.group == group) {
+                continue;
+            }
+            let text =
+                std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let f = Fixture::from_json(&text, &path).map_err(|e| e.to_string())?;
+            out.push(case_of(&f));
+        }
+    }
+    Ok(out)
+}
+
+/// Every fixture file's path (relative to the root) and text.
+pub fn render_all(root: &Path, weights: Weights) -> Result<Vec<(PathBuf, String)>, String> {
+    let builtin = builtin(weights);
+    let added = added_cases(root, &builtin)?;
+    let mut names = std::collections::HashSet::new();
+    builtin
+        .iter()
+        .chain(&added)
+        .map(|c| {
+            if !names.insert(c.name.clone()) {
+                return Err(format!("two cases are named {:?}", c.name));
+            }
+            let f = make_fixture(c).map_err(|e| format!("case {}: {e}", c.name))?;
+            Ok((f.relative_path(), fixture::to_json_text(&f)))
+        })
+        .collect()
+}

@@ -1,0 +1,456 @@
+//! Implementations of the three functions that a student might write: the
+//! stubs, two other correct ones, and one for each common mistake.
+//!
+//! They serve twice: the fixture generator runs the subdivision mistakes to
+//! store what each produces (so the grader can name a mistake it sees), and
+//! the tests grade every entry to prove the grader accepts the right ones
+//! and rejects each wrong one with the right message.
+
+use halfedge::{DVec3, EdgeId, HalfedgeId, Mesh, VertexId};
+
+use crate::solution::{self, Weights};
+use grader::Implementation;
+
+/// One implementation in the catalogue.
+pub struct Entry {
+    pub name: &'static str,
+    /// What it does wrong (or how it differs, for the correct ones).
+    pub what: &'static str,
+    pub imp: Implementation,
+}
+
+fn with(
+    flip: Option<fn(&mut Mesh, EdgeId) -> Option<EdgeId>>,
+    split: Option<fn(&mut Mesh, EdgeId) -> Option<VertexId>>,
+    subdivide: Option<fn(&mut Mesh)>,
+) -> Implementation {
+    Implementation {
+        flip_edge: flip.unwrap_or(solution::flip_edge),
+        split_edge: split.unwrap_or(solution::split_edge),
+        loop_subdivide: subdivide.unwrap_or(solution::loop_subdivide),
+    }
+}
+
+/// A student's `loop_subdivide` calls their own `flip_edge` and
+/// `split_edge`: this makes that subdivision for a flip or split mistake.
+macro_rules! subdividing_with {
+    ($name:ident, $split:expr, $flip:expr) => {
+        fn $name(mesh: &mut Mesh) {
+            steps(mesh, Weights::Warren, $split, $flip);
+        }
+    };
+}
+
+subdividing_with!(sub_flip_none, solution::split_edge, |_, _| None);
+subdividing_with!(
+    sub_flip_returns_other,
+    solution::split_edge,
+    flip_returns_other
+);
+subdividing_with!(
+    sub_flip_stale_vertices,
+    solution::split_edge,
+    flip_stale_vertices
+);
+subdividing_with!(sub_flip_stale_faces, solution::split_edge, flip_stale_faces);
+subdividing_with!(sub_flip_face_labels, solution::split_edge, flip_face_labels);
+subdividing_with!(sub_flip_boundary, solution::split_edge, flip_boundary);
+subdividing_with!(sub_split_third, split_third, solution::flip_edge);
+subdividing_with!(
+    sub_split_vertex_across,
+    split_vertex_across,
+    solution::flip_edge
+);
+subdividing_with!(
+    sub_split_refuses_boundary,
+    split_refuses_boundary,
+    solution::flip_edge
+);
+subdividing_with!(
+    sub_split_stale_vertex,
+    split_stale_vertex,
+    solution::flip_edge
+);
+
+/// The model solution.
+pub fn reference() -> Implementation {
+    with(None, None, None)
+}
+
+/// Every implementation, correct ones first.
+pub fn catalogue() -> Vec<Entry> {
+    let e = |name, what, imp| Entry { name, what, imp };
+    vec![
+        e("reference", "the model solution", reference()),
+        e("alt-order", "creates elements in another order, points the split vertex at the other half, flips the other way round", with(Some(alt_flip), Some(alt_split), Some(alt_subdivide))),
+        e("alt-reverse", "splits and flips in reverse order, edge points before vertex points", with(None, None, Some(reverse_subdivide))),
+        e("stubs", "the handout's todo!() stubs", with(Some(stub_flip), Some(stub_split), Some(stub_subdivide))),
+        e("flip-none", "flip_edge always returns None", with(Some(|_, _| None), None, Some(sub_flip_none))),
+        e("flip-wrong-return", "flip_edge returns another edge", with(Some(flip_returns_other), None, Some(sub_flip_returns_other))),
+        e("flip-stale-vertex", "flip_edge does not update the halfedge of a and b", with(Some(flip_stale_vertices), None, Some(sub_flip_stale_vertices))),
+        e("flip-stale-face", "flip_edge does not update the faces' halfedge", with(Some(flip_stale_faces), None, Some(sub_flip_stale_faces))),
+        e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", with(Some(flip_face_labels), None, Some(sub_flip_face_labels))),
+        e("flip-boundary", "flip_edge does not refuse boundary edges", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
+        e("flip-index-panic", "flip_edge indexes past the end of a Vec", with(Some(flip_index_panic), None, None)),
+        e("split-not-midpoint", "split_edge puts the new vertex a third of the way", with(None, Some(split_third), Some(sub_split_third))),
+        e("split-vertex-across", "split_edge points the new vertex's halfedge across, not along", with(None, Some(split_vertex_across), Some(sub_split_vertex_across))),
+        e("split-none", "split_edge always returns None", with(None, Some(|_, _| None), None)),
+        e("split-refuses-boundary", "split_edge refuses boundary edges, like flip_edge", with(None, Some(split_refuses_boundary), Some(sub_split_refuses_boundary))),
+        e("split-stale-vertex", "split_edge does not update b's halfedge", with(None, Some(split_stale_vertex), Some(sub_split_stale_vertex))),
+        e("loop-weights", "Loop's original weights instead of the lab's", with(None, None, Some(sub_loop_weights))),
+        e("n3-rule", "3/(8n) also for n = 3", with(None, None, Some(sub_n3_rule))),
+        e("old-not-moved", "old vertices keep their positions", with(None, None, Some(sub_old_not_moved))),
+        e("plain-midpoints", "new vertices at edge midpoints", with(None, None, Some(sub_midpoints))),
+        e("moved-first", "edge points computed from vertices already moved", with(None, None, Some(sub_moved_first))),
+        e("no-flip", "no edge flipped", with(None, None, Some(sub_no_flip))),
+        e("flip-all-new", "every new edge flipped, new-new ones too", with(None, None, Some(sub_flip_all_new))),
+        e("flip-halves", "halves of old edges marked new and flipped too", with(None, None, Some(sub_flip_halves))),
+        e("split-new-again", "splits edges created by split_edge again, without end", with(None, None, Some(sub_split_new_again))),
+        e("endless", "loop_subdivide never returns", with(None, None, Some(sub_endless))),
+        e("recursion", "loop_subdivide recurses without end", with(None, None, Some(sub_recursion))),
+        e("abort", "loop_subdivide aborts the process", with(None, None, Some(sub_abort))),
+        e("exit", "loop_subdivide calls std::process::exit(0)", with(None, None, Some(sub_exit))),
+        e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", with(None, None, Some(sub_fake_verdict))),
+    ]
+}
+
+/// The catalogue entry named `name`.
+pub fn find(name: &str) -> Option<Entry> {
+    catalogue().into_iter().find(|e| e.name == name)
+}
+
+/// A subdivision mistake the fixtures record.
+pub struct KnownMistake {
+    pub id: &'static str,
+    /// What the grader says when a result matches this mistake's.
+    pub hint: &'static str,
+    pub run: fn(&mut Mesh),
+}
+
+/// Subdivision mistakes whose results the fixtures store, with the hint the
+/// grader prints when a result matches. Each hint says what went wrong and
+/// what the lab asks for instead.
+pub fn subdivision_mistakes() -> Vec<KnownMistake> {
+    let m = |id, hint, run| KnownMistake { id, hint, run };
+    vec![
+        m("loop-weights", "the old vertices moved with Loop's original weight beta = (1/n)(5/8 - (3/8 + cos(2 pi/n)/4)^2); the lab uses u = 3/16 when n = 3, else 3/(8n)", sub_loop_weights),
+        m("n3-rule", "vertices with 3 neighbours moved with u = 3/(8n) = 1/8; the lab uses u = 3/16 when n = 3", sub_n3_rule),
+        m("old-not-moved", "the old vertices did not move: each goes to (1 - n*u) * v + u * (sum of its neighbours)", sub_old_not_moved),
+        m("plain-midpoints", "the new vertices sit at edge midpoints: each goes to 3/8 * (a + b) + 1/8 * (c + d), c and d the corners facing the edge", sub_midpoints),
+        m("moved-first", "the new vertices were computed from old vertices that had already moved: compute every new position before moving any vertex", sub_moved_first),
+        m("no-flip", "no edge was flipped: after splitting, flip every new edge that joins an old and a new vertex", sub_no_flip),
+        m("flip-all-new", "edges joining two new vertices were flipped too: flip only new edges that join an old and a new vertex", sub_flip_all_new),
+        m("flip-halves", "halves of the old edges were flipped too: of the four edges at a split vertex, only the two across the old edge are new", sub_flip_halves),
+    ]
+}
+
+// ---- the stubs -------------------------------------------------------------
+
+fn stub_flip(_: &mut Mesh, _: EdgeId) -> Option<EdgeId> {
+    todo!("flip_edge: rotate edge e counter-clockwise inside its two triangles")
+}
+fn stub_split(_: &mut Mesh, _: EdgeId) -> Option<VertexId> {
+    todo!("split_edge: insert the midpoint of edge e and join it to the opposite corners")
+}
+fn stub_subdivide(_: &mut Mesh) {
+    todo!("loop_subdivide: compute new positions, split old edges, flip old-new edges, move")
+}
+
+// ---- other correct answers ---------------------------------------------------
+
+/// A flip that relabels the other way: h ends up running c -> d.
+fn alt_flip(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    // Flipping from the twin's side gives the same edge, with h and t swapped.
+    mesh[e].halfedge = t;
+    let r = solution::flip_edge(mesh, e);
+    if r.is_none() {
+        mesh[e].halfedge = h;
+    }
+    r
+}
+
+/// A split that starts from the other halfedge: the new elements take the
+/// other roles and the new vertex points at the other half of the old edge.
+fn alt_split(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let h = mesh[e].halfedge;
+    mesh[e].halfedge = mesh[h].twin;
+    let m = solution::split_edge(mesh, e);
+    if m.is_none() {
+        mesh[e].halfedge = h;
+    }
+    m
+}
+
+fn alt_subdivide(mesh: &mut Mesh) {
+    steps(mesh, Weights::Warren, alt_split, alt_flip);
+}
+
+/// Edge points before vertex points, splits and flips last edge first.
+fn reverse_subdivide(mesh: &mut Mesh) {
+    solution::edge_points(mesh);
+    solution::vertex_points(mesh, Weights::Warren);
+    let mut old: Vec<EdgeId> = mesh.edge_ids().collect();
+    old.reverse();
+    solution::split_edges(mesh, &old, solution::split_edge);
+    let mut all: Vec<EdgeId> = mesh.edge_ids().collect();
+    all.reverse();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::move_vertices(mesh);
+}
+
+/// The solution's steps with the given weights, split and flip.
+fn steps(
+    mesh: &mut Mesh,
+    weights: Weights,
+    split: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
+    flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
+) {
+    solution::vertex_points(mesh, weights);
+    solution::edge_points(mesh);
+    split_old(mesh, split);
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, flip);
+    solution::move_vertices(mesh);
+}
+
+fn split_old(mesh: &mut Mesh, split: fn(&mut Mesh, EdgeId) -> Option<VertexId>) {
+    let old: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::split_edges(mesh, &old, split);
+}
+
+// ---- flip mistakes -----------------------------------------------------------
+
+fn flip_returns_other(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    solution::flip_edge(mesh, e)?;
+    let h = mesh[e].halfedge;
+    Some(mesh[mesh[h].next].edge)
+}
+
+fn flip_stale_vertices(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let (a, b) = (mesh[h].vertex, mesh[mesh[h].twin].vertex);
+    let (ha, hb) = (mesh[a].halfedge, mesh[b].halfedge);
+    let r = solution::flip_edge(mesh, e);
+    mesh[a].halfedge = ha;
+    mesh[b].halfedge = hb;
+    r
+}
+
+fn flip_stale_faces(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let (f0, f1) = (mesh[h].face, mesh[mesh[h].twin].face);
+    let (h0, h1) = (mesh[f0].halfedge, mesh[f1].halfedge);
+    let r = solution::flip_edge(mesh, e);
+    mesh[f0].halfedge = h0;
+    mesh[f1].halfedge = h1;
+    r
+}
+
+fn flip_face_labels(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    let (h1, t1) = (mesh[h].next, mesh[t].next);
+    let (f0, f1) = (mesh[h].face, mesh[t].face);
+    let r = solution::flip_edge(mesh, e);
+    // h1 moved to t's face and t1 to h's: leave their labels behind.
+    mesh[h1].face = f0;
+    mesh[t1].face = f1;
+    r
+}
+
+/// No checks at all: relinks as if both faces were triangles.
+fn flip_boundary(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    solution::relink_flip(mesh, e);
+    Some(e)
+}
+
+#[allow(clippy::useless_vec)]
+fn flip_index_panic(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let corners = vec![mesh[e].halfedge; 3];
+    let fourth = corners[corners.len() + e.index() % 2];
+    let _ = fourth;
+    solution::flip_edge(mesh, e)
+}
+
+// ---- split mistakes ----------------------------------------------------------
+
+fn split_third(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let (a, b) = mesh.edge_vertices(e);
+    let m = solution::split_edge(mesh, e)?;
+    mesh[m].pos = (2.0 * mesh[a].pos + mesh[b].pos) / 3.0;
+    Some(m)
+}
+
+fn split_vertex_across(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let (a, b) = mesh.edge_vertices(e);
+    let m = solution::split_edge(mesh, e)?;
+    let across = mesh
+        .vertex_halfedges(m)
+        .into_iter()
+        .find(|&g| {
+            let d = mesh.halfedge_dst(g);
+            d != a && d != b
+        })
+        .expect("a split vertex has edges across");
+    mesh[m].halfedge = across;
+    Some(m)
+}
+
+fn split_refuses_boundary(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    if mesh.edge_on_boundary(e) {
+        return None;
+    }
+    solution::split_edge(mesh, e)
+}
+
+fn split_stale_vertex(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let verts: Vec<(VertexId, HalfedgeId)> = {
+        let (a, b) = mesh.edge_vertices(e);
+        vec![(a, mesh[a].halfedge), (b, mesh[b].halfedge)]
+    };
+    let m = solution::split_edge(mesh, e)?;
+    for (v, h) in verts {
+        mesh[v].halfedge = h;
+    }
+    Some(m)
+}
+
+// ---- subdivision mistakes: the solution's steps, one of them wrong ----------
+
+fn sub_loop_weights(mesh: &mut Mesh) {
+    steps(
+        mesh,
+        Weights::Loop,
+        solution::split_edge,
+        solution::flip_edge,
+    );
+}
+
+fn sub_n3_rule(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    for v in mesh.vertex_ids() {
+        let ns = mesh.vertex_neighbors(v);
+        if ns.len() == 3 && !mesh.vertex_on_boundary(v) {
+            let sum: DVec3 = ns.iter().map(|&n| mesh[n].pos).sum();
+            mesh[v].new_pos = (1.0 - 3.0 / 8.0) * mesh[v].pos + sum / 8.0;
+        }
+    }
+    solution::edge_points(mesh);
+    after_points(mesh);
+}
+
+/// Split, flip and move, as the solution does.
+fn after_points(mesh: &mut Mesh) {
+    split_old(mesh, solution::split_edge);
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::move_vertices(mesh);
+}
+
+fn sub_old_not_moved(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    for v in mesh.vertex_ids() {
+        mesh[v].new_pos = mesh[v].pos;
+    }
+    after_points(mesh);
+}
+
+fn sub_midpoints(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    for e in mesh.edge_ids() {
+        mesh[e].new_pos = mesh.edge_center(e);
+    }
+    after_points(mesh);
+}
+
+fn sub_moved_first(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::move_vertices(mesh);
+    solution::edge_points(mesh);
+    after_points(mesh);
+}
+
+fn sub_no_flip(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    split_old(mesh, solution::split_edge);
+    solution::move_vertices(mesh);
+}
+
+fn sub_flip_all_new(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    split_old(mesh, solution::split_edge);
+    for e in mesh.edge_ids() {
+        if mesh[e].is_new {
+            solution::flip_edge(mesh, e);
+        }
+    }
+    solution::move_vertices(mesh);
+}
+
+fn sub_flip_halves(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    split_old(mesh, solution::split_edge);
+    // Every edge at a new vertex marked new: the halves of old edges too.
+    let new: Vec<VertexId> = mesh.vertex_ids().filter(|&v| mesh[v].is_new).collect();
+    for v in new {
+        for h in mesh.vertex_halfedges(v) {
+            let e = mesh[h].edge;
+            mesh[e].is_new = true;
+        }
+    }
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::move_vertices(mesh);
+}
+
+fn sub_split_new_again(mesh: &mut Mesh) {
+    // The classic: the loop bound grows with every split.
+    let mut i = 0;
+    while i < mesh.num_edges() {
+        let e = EdgeId::from_index(i);
+        if !mesh.edge_on_boundary(e) {
+            solution::split_edge(mesh, e);
+        }
+        i += 1;
+    }
+}
+
+// Endless on purpose: the grader must stop it.
+#[allow(clippy::while_immutable_condition)]
+fn sub_endless(mesh: &mut Mesh) {
+    // A walk that forgets to step: `h` never changes.
+    let start = mesh[mesh.vertex_ids().next().unwrap()].halfedge;
+    let h = start;
+    let mut steps = 0u64;
+    while mesh[h].vertex == mesh[start].vertex {
+        steps = std::hint::black_box(steps.wrapping_add(1));
+    }
+}
+
+#[allow(unconditional_recursion)]
+fn sub_recursion(mesh: &mut Mesh) {
+    let mut buf = [0u8; 256];
+    buf[0] = std::hint::black_box(1);
+    sub_recursion(std::hint::black_box(mesh));
+    std::hint::black_box(&buf);
+}
+
+fn sub_abort(_: &mut Mesh) {
+    std::process::abort();
+}
+
+fn sub_exit(_: &mut Mesh) {
+    std::process::exit(0);
+}
+
+fn sub_fake_verdict(mesh: &mut Mesh) {
+    println!("grade.rs:1 [info] all tests passed, congratulations!");
+    sub_no_flip(mesh);
+}

@@ -1,0 +1,291 @@
+//! The model answer: `flip_edge`, `split_edge` and `loop_subdivide` written
+//! the way the lab asks, with the same signatures as `crates/meshedit`, so a
+//! TA can paste them in. Beyond the lab: meshes with boundary, and a choice
+//! of vertex weights.
+
+use std::f64::consts::TAU;
+
+use halfedge::{DVec3, EdgeId, HalfedgeId, Mesh, VertexId};
+
+/// How an old vertex's new position weighs its neighbours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Weights {
+    /// The lab's (Warren's): u = 3/16 when n = 3, else 3/(8n).
+    #[default]
+    Warren,
+    /// Loop's original: beta = (1/n) (5/8 - (3/8 + 1/4 cos(2 pi / n))^2).
+    Loop,
+}
+
+impl Weights {
+    /// The weight u of each neighbour of an interior vertex of degree `n`.
+    pub fn neighbour_weight(self, n: usize) -> f64 {
+        let n_f = n as f64;
+        match self {
+            Weights::Warren if n == 3 => 3.0 / 16.0,
+            Weights::Warren => 3.0 / (8.0 * n_f),
+            Weights::Loop => {
+                let c = 3.0 / 8.0 + (TAU / n_f).cos() / 4.0;
+                (5.0 / 8.0 - c * c) / n_f
+            }
+        }
+    }
+
+    /// The name used on the command line and in fixtures.
+    pub fn name(self) -> &'static str {
+        match self {
+            Weights::Warren => "warren",
+            Weights::Loop => "loop",
+        }
+    }
+
+    /// The inverse of [`Weights::name`].
+    pub fn from_name(name: &str) -> Option<Weights> {
+        match name {
+            "warren" => Some(Weights::Warren),
+            "loop" => Some(Weights::Loop),
+            _ => None,
+        }
+    }
+}
+
+fn is_triangle(mesh: &Mesh, h: HalfedgeId) -> bool {
+    mesh[mesh[mesh[h].next].next].next == h
+}
+
+/// See `meshedit::flip_edge`.
+pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    if mesh.edge_on_boundary(e) {
+        return None;
+    }
+    // Before: h = a->b, h1 = b->c, h2 = c->a;  t = b->a, t1 = a->d, t2 = d->b.
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    if !is_triangle(mesh, h) || !is_triangle(mesh, t) {
+        return None;
+    }
+    relink_flip(mesh, e);
+    Some(e)
+}
+
+/// The relinking part of a flip, with no checks: `e`'s two faces are taken
+/// to be triangles.
+pub(crate) fn relink_flip(mesh: &mut Mesh, e: EdgeId) {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    let (h1, t1) = (mesh[h].next, mesh[t].next);
+    let (h2, t2) = (mesh[h1].next, mesh[t1].next);
+    let (a, b) = (mesh[h].vertex, mesh[t].vertex);
+    let (c, d) = (mesh[h2].vertex, mesh[t2].vertex);
+    let (f0, f1) = (mesh[h].face, mesh[t].face);
+
+    // After: h = d->c in (d, c, a);  t = c->d in (c, d, b).
+    mesh.set_neighbors(h, h2, t, d, e, f0);
+    mesh.set_neighbors(h2, t1, mesh[h2].twin, c, mesh[h2].edge, f0);
+    mesh.set_neighbors(t1, h, mesh[t1].twin, a, mesh[t1].edge, f0);
+    mesh.set_neighbors(t, t2, h, c, e, f1);
+    mesh.set_neighbors(t2, h1, mesh[t2].twin, d, mesh[t2].edge, f1);
+    mesh.set_neighbors(h1, t, mesh[h1].twin, b, mesh[h1].edge, f1);
+
+    // a and b may have pointed at h or t, which no longer start there.
+    mesh[a].halfedge = t1;
+    mesh[b].halfedge = h1;
+    mesh[f0].halfedge = h;
+    mesh[f1].halfedge = t;
+}
+
+/// See `meshedit::split_edge`.
+pub fn split_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    // Let h be a halfedge of e inside a real triangle.
+    let mut h = mesh[e].halfedge;
+    if mesh[mesh[h].face].is_boundary {
+        h = mesh[h].twin;
+    }
+    let t = mesh[h].twin;
+    let on_boundary = mesh[mesh[t].face].is_boundary;
+    if !is_triangle(mesh, h) || (!on_boundary && !is_triangle(mesh, t)) {
+        return None;
+    }
+
+    // Before: h = a->b, h1 = b->c, h2 = c->a in f0; t = b->a in f1.
+    let (h1, h2) = (mesh[h].next, mesh[mesh[h].next].next);
+    let (a, b, c) = (mesh[h].vertex, mesh[t].vertex, mesh[h2].vertex);
+    let f0 = mesh[h].face;
+    let mid = (mesh[a].pos + mesh[b].pos) / 2.0;
+
+    let m = mesh.new_vertex(mid);
+    let eb = mesh.new_edge(); // m - b, the other half of the old edge
+    let ec = mesh.new_edge(); // m - c, across triangle f0
+    let f2 = mesh.new_face(); // (m, b, c)
+    let hb = mesh.new_halfedge(); // m -> b
+    let tb = mesh.new_halfedge(); // b -> m
+    let hc = mesh.new_halfedge(); // m -> c
+    let tc = mesh.new_halfedge(); // c -> m
+
+    // f0 = (a, m, c), f2 = (m, b, c).
+    mesh.set_neighbors(h, hc, t, a, e, f0);
+    mesh.set_neighbors(hc, h2, tc, m, ec, f0);
+    mesh.set_neighbors(hb, h1, tb, m, eb, f2);
+    mesh.set_neighbors(h1, tc, mesh[h1].twin, b, mesh[h1].edge, f2);
+    mesh.set_neighbors(tc, hb, hc, c, ec, f2);
+
+    let f1 = mesh[t].face;
+    if on_boundary {
+        // The hole's loop ran ... -> t (b->a) -> ...; now ... -> tb -> t.
+        let before_t = mesh
+            .face_halfedges(f1)
+            .into_iter()
+            .find(|&g| mesh[g].next == t)
+            .expect("a boundary loop is a cycle");
+        mesh[before_t].next = tb;
+        mesh.set_neighbors(tb, t, hb, b, eb, f1);
+        mesh.set_neighbors(t, mesh[t].next, h, m, e, f1);
+    } else {
+        // Before: t = b->a, t1 = a->d, t2 = d->b in f1.
+        // After: f1 = (m, a, d), f3 = (b, m, d).
+        let t1 = mesh[t].next;
+        let t2 = mesh[t1].next;
+        let d = mesh[t2].vertex;
+        let ed = mesh.new_edge();
+        let f3 = mesh.new_face();
+        let hd = mesh.new_halfedge(); // m -> d
+        let td = mesh.new_halfedge(); // d -> m
+        mesh.set_neighbors(t, t1, h, m, e, f1);
+        mesh.set_neighbors(t1, td, mesh[t1].twin, a, mesh[t1].edge, f1);
+        mesh.set_neighbors(td, t, hd, d, ed, f1);
+        mesh.set_neighbors(tb, hd, hb, b, eb, f3);
+        mesh.set_neighbors(hd, t2, td, m, ed, f3);
+        mesh.set_neighbors(t2, tb, mesh[t2].twin, d, mesh[t2].edge, f3);
+        mesh[ed].halfedge = hd;
+        mesh[f3].halfedge = tb;
+        mesh[f1].halfedge = t;
+    }
+
+    mesh[m].halfedge = hb; // along the old edge, as the contract asks
+    mesh[b].halfedge = h1; // b may have pointed at t, which now starts at m
+    mesh[eb].halfedge = hb;
+    mesh[ec].halfedge = hc;
+    mesh[e].halfedge = h;
+    mesh[f0].halfedge = h;
+    mesh[f2].halfedge = hb;
+    Some(m)
+}
+
+/// See `meshedit::loop_subdivide`: one round with the lab's weights.
+pub fn loop_subdivide(mesh: &mut Mesh) {
+    loop_subdivide_with(mesh, Weights::Warren);
+}
+
+/// The two neighbours of boundary vertex `v` along its hole.
+fn boundary_neighbours(mesh: &Mesh, v: VertexId) -> [VertexId; 2] {
+    let mut ends = mesh
+        .vertex_halfedges(v)
+        .into_iter()
+        .filter(|&h| mesh.edge_on_boundary(mesh[h].edge))
+        .map(|h| mesh.halfedge_dst(h));
+    let first = ends.next().expect("a boundary vertex has boundary edges");
+    let second = ends
+        .next()
+        .expect("a boundary vertex has two boundary edges");
+    [first, second]
+}
+
+/// One round of Loop subdivision with the given vertex weights. Boundary
+/// edges split at their midpoint; boundary vertices move to
+/// 3/4 v + 1/8 of their two neighbours along the boundary.
+///
+/// # Panics
+/// If a face is not a triangle.
+pub fn loop_subdivide_with(mesh: &mut Mesh, weights: Weights) {
+    if let Some(f) = mesh.first_non_triangle() {
+        panic!(
+            "loop_subdivide needs a triangle mesh, but {f} has {} sides",
+            mesh.face_degree(f)
+        );
+    }
+    vertex_points(mesh, weights);
+    edge_points(mesh);
+    let old_edges: Vec<EdgeId> = mesh.edge_ids().collect();
+    split_edges(mesh, &old_edges, split_edge);
+    let all_edges: Vec<EdgeId> = mesh.edge_ids().collect();
+    flip_old_new(mesh, &all_edges, flip_edge);
+    move_vertices(mesh);
+}
+
+/// Step 1a: where each old vertex goes, into `new_pos`; marks it old.
+pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
+    for v in mesh.vertex_ids() {
+        let p = mesh[v].pos;
+        mesh[v].new_pos = if mesh.vertex_on_boundary(v) {
+            let [x, y] = boundary_neighbours(mesh, v);
+            0.75 * p + 0.125 * (mesh[x].pos + mesh[y].pos)
+        } else {
+            let ns = mesh.vertex_neighbors(v);
+            let u = weights.neighbour_weight(ns.len());
+            let sum: DVec3 = ns.iter().map(|&n| mesh[n].pos).sum();
+            (1.0 - ns.len() as f64 * u) * p + u * sum
+        };
+        mesh[v].is_new = false;
+    }
+}
+
+/// Step 1b: where the vertex splitting each edge goes, into the edge's
+/// `new_pos`; marks the edge old.
+pub fn edge_points(mesh: &mut Mesh) {
+    for e in mesh.edge_ids() {
+        let h = mesh[e].halfedge;
+        let t = mesh[h].twin;
+        let (a, b) = (mesh[mesh[h].vertex].pos, mesh[mesh[t].vertex].pos);
+        mesh[e].new_pos = if mesh.edge_on_boundary(e) {
+            (a + b) / 2.0
+        } else {
+            let c = mesh[mesh[mesh[mesh[h].next].next].vertex].pos;
+            let d = mesh[mesh[mesh[mesh[t].next].next].vertex].pos;
+            0.375 * (a + b) + 0.125 * (c + d)
+        };
+        mesh[e].is_new = false;
+    }
+}
+
+/// Step 2: splits each of `edges` (the old ones) with `split`. The new
+/// vertex is new; of the edges at it, those across the old edge are new,
+/// the two halves of the old edge are not.
+pub fn split_edges(
+    mesh: &mut Mesh,
+    edges: &[EdgeId],
+    split: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
+) {
+    for &e in edges {
+        let (a, b) = mesh.edge_vertices(e);
+        let m = split(mesh, e).expect("split_edge returned None for an edge of a triangle mesh");
+        mesh[m].is_new = true;
+        mesh[m].new_pos = mesh[e].new_pos;
+        for h in mesh.vertex_halfedges(m) {
+            let end = mesh.halfedge_dst(h);
+            let edge = mesh[h].edge;
+            mesh[edge].is_new = end != a && end != b;
+        }
+    }
+}
+
+/// Step 3: flips each of `edges` that is new and joins an old vertex to a
+/// new one.
+pub fn flip_old_new(
+    mesh: &mut Mesh,
+    edges: &[EdgeId],
+    flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
+) {
+    for &e in edges {
+        let (a, b) = mesh.edge_vertices(e);
+        if mesh[e].is_new && mesh[a].is_new != mesh[b].is_new {
+            flip(mesh, e);
+        }
+    }
+}
+
+/// Step 4: every vertex to its `new_pos`.
+pub fn move_vertices(mesh: &mut Mesh) {
+    for v in mesh.vertex_ids() {
+        mesh[v].pos = mesh[v].new_pos;
+    }
+}
