@@ -80,7 +80,8 @@ pub struct Cli {
     /// Where the fixtures are [default: ./fixtures, else the lab's own].
     #[arg(long, value_name = "DIR")]
     pub fixtures: Option<PathBuf>,
-    /// Count the bonus cases (meshes with boundary) toward the verdict.
+    /// Count the bonus cases (meshes with boundary) toward the verdict
+    /// (a case named with --case always counts).
     #[arg(long)]
     pub bonus: bool,
     /// List the cases and exit.
@@ -197,18 +198,20 @@ pub fn run(cli: &Cli) -> ExitCode {
         reports.push(grade::judge(f, &child));
     }
     grade::note_dependencies(&mut reports);
+    // Naming a bonus case is asking for it to count.
+    let bonus = cli.bonus || cli.case.is_some();
 
     let output = match cli.format {
-        Format::Text => report::text(&reports, cli.bonus, use_color(cli)),
-        Format::Json => report::json(&reports, cli.bonus),
+        Format::Text => report::text(&reports, bonus, use_color(cli)),
+        Format::Json => report::json(&reports, bonus),
     };
     print!("{output}");
     if let Some(path) = &cli.gradescope {
-        if let Err(e) = std::fs::write(path, report::gradescope(&reports, cli.bonus)) {
+        if let Err(e) = std::fs::write(path, report::gradescope(&reports, bonus)) {
             return usage_error(&format!("cannot write {}: {e}", path.display()));
         }
     }
-    if report::all_passed(&reports, cli.bonus) {
+    if report::all_passed(&reports, bonus) {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)

@@ -2,7 +2,7 @@
 //!
 //! Everything under the lab's root is copied except what only TAs may see
 //! (this crate, hidden fixtures, the TA guide, CI) and build or version
-//! control output. The root manifest loses the `reference` member and the
+//! control output. The root manifest and lock file lose the `reference` package and the
 //! README becomes the student README kept in `reference/handout/`.
 
 use std::path::{Path, PathBuf};
@@ -40,6 +40,15 @@ fn student_manifest(text: &str) -> Result<String, String> {
     Ok(text.replace(line, &fixed))
 }
 
+/// The lock file without the `reference` package (cargo drops the
+/// dependencies only it used on the first build).
+fn student_lock(text: &str) -> String {
+    text.split("\n\n")
+        .filter(|block| !block.contains("\nname = \"reference\"\n"))
+        .collect::<Vec<_>>()
+        .join("\n\n")
+}
+
 fn copy_tree(root: &Path, rel: &Path, dest: &Path, out: &mut Exported) -> Result<(), String> {
     let dir = root.join(rel);
     let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -66,6 +75,10 @@ fn copy_tree(root: &Path, rel: &Path, dest: &Path, out: &mut Exported) -> Result
                 "Cargo.toml" => {
                     let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
                     write(student_manifest(&text)?.as_bytes())?;
+                }
+                "Cargo.lock" => {
+                    let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
+                    write(student_lock(&text).as_bytes())?;
                 }
                 "README.md" => write(include_str!("../handout/README.md").as_bytes())?,
                 _ => {
