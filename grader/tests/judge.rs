@@ -1,0 +1,553 @@
+//! The grader's judgement on fixture data alone: an expected result
+//! compared with itself passes, and each kind of perturbation gets its
+//! message. No student code runs here.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use grader::child::{Counts, MeshResult, Outcome, Returned};
+use grader::fixture::{self, Fixture, Returns};
+use grader::grade::{judge, CaseReport, Level};
+use grader::runner::{ChildReport, Run};
+
+fn fixtures_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+}
+
+fn load(rel: &str) -> Fixture {
+    let path = fixtures_dir().join(rel);
+    Fixture::from_json(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
+}
+
+fn input_boundary_loops(f: &Fixture) -> usize {
+    if f.group == fixture::Group::Bonus {
+        1
+    } else {
+        0
+    }
+}
+
+fn input_counts(f: &Fixture) -> Counts {
+    let faces = f.input.faces.len() + input_boundary_loops(f);
+    let mut edges = std::collections::BTreeSet::new();
+    for face in &f.input.faces {
+        for i in 0..face.len() {
+            let (a, b) = (face[i], face[(i + 1) % face.len()]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    Counts {
+        vertices: f.input.positions.len(),
+        edges: edges.len(),
+        faces,
+        halfedges: 2 * edges.len(),
+    }
+}
+
+/// What a perfect student would report for this fixture.
+fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
+    let e = &f.expected;
+    let mut mesh = MeshResult {
+        positions: e.positions.clone(),
+        edges: e.edges.clone(),
+        returned_edge_ends: None,
+        returned_vertex_leads_to: None,
+    };
+    let returned = match (&e.returns, f.operation) {
+        (None, _) => Returned::Unit,
+        (Some(Returns::Refused), _) => Returned::Nothing,
+        (Some(Returns::Edge { ends }), _) => {
+            mesh.returned_edge_ends = Some(*ends);
+            Returned::Edge { given: 4, got: 4 }
+        }
+        (Some(Returns::Vertex { position }), fixture::Operation::Split { edge }) => {
+            mesh.returned_vertex_leads_to = Some(edge[1]);
+            Returned::Vertex {
+                id: e.positions.len() as u32 - 1,
+                position: Some(*position),
+            }
+        }
+        _ => unreachable!(),
+    };
+    let before = input_counts(f);
+    let after = match f.operation {
+        fixture::Operation::Flip { .. } => before,
+        fixture::Operation::Split { .. } if e.returns == Some(Returns::Refused) => before,
+        fixture::Operation::Split { .. } => {
+            let divided = e.edges.len() - before.edges - 1;
+            Counts {
+                vertices: before.vertices + 1,
+                edges: before.edges + 1 + divided,
+                faces: before.faces + divided,
+                halfedges: before.halfedges + 2 + 2 * divided,
+            }
+        }
+        // Subdivision is judged on positions and edges, not counts.
+        fixture::Operation::Subdivide { .. } => before,
+    };
+    (returned, after, mesh)
+}
+
+fn finished(
+    f: &Fixture,
+    returned: Returned,
+    after: Counts,
+    invalid: Option<&str>,
+    mesh: Option<MeshResult>,
+) -> CaseReport {
+    let child = ChildReport {
+        run: Run::Done(Outcome::Finished {
+            returned,
+            before: input_counts(f),
+            after,
+            invalid: invalid.map(str::to_string),
+            mesh,
+        }),
+        output: String::new(),
+    };
+    judge(f, &child)
+}
+
+fn lines(r: &CaseReport, level: Level) -> Vec<&str> {
+    r.entries
+        .iter()
+        .filter(|e| e.level == level)
+        .map(|e| e.text.as_str())
+        .collect()
+}
+
+/// Asserts the report failed with exactly one warning, `warning`.
+#[track_caller]
+fn assert_fails_with(r: &CaseReport, warning: &str) {
+    let warns = lines(r, Level::Warn);
+    assert!(!r.passed, "expected a failure, but the case passed");
+    assert_eq!(
+        warns,
+        vec![warning],
+        "\nexpected warning: {warning}\n     got warnings: {warns:?}"
+    );
+}
+
+#[track_caller]
+fn assert_detail(r: &CaseReport, needle: &str) {
+    let details = lines(r, Level::Detail);
+    assert!(
+        details.iter().any(|d| d.contains(needle)),
+        "\nexpected a detail containing: {needle}\n     got details: {details:#?}"
+    );
+}
+
+#[test]
+fn every_committed_fixture_compared_with_itself_passes() {
+    let all = fixture::load_all(&fixtures_dir()).unwrap();
+    assert!(all.len() >= 28, "the lab and bonus cases at least");
+    for f in &all {
+        let (returned, after, mesh) = perfect(f);
+        let r = finished(f, returned, after, None, Some(mesh));
+        assert!(r.passed, "{}: {:#?}", f.name, r.entries);
+        let info = lines(&r, Level::Info);
+        assert_eq!(
+            info.first()
+                .copied()
+                .map(|s| s.starts_with("start testing")),
+            Some(true)
+        );
+        assert_eq!(
+            info.last().copied().map(|s| s.starts_with("end testing")),
+            Some(true)
+        );
+    }
+}
+
+#[test]
+fn subdivision_follows_the_lab_script() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mesh) = perfect(&f);
+    let r = finished(&f, returned, after, None, Some(mesh));
+    assert_eq!(
+        lines(&r, Level::Info),
+        vec![
+            "start testing subdivision for cube",
+            "validate the mesh...",
+            "passed",
+            "compare all vertices...",
+            "passed",
+            "compare all edges...",
+            "passed",
+            "end testing subdivision for cube",
+        ]
+    );
+    let two = load("lab/cube-subdivide-2.json");
+    let (returned, after, mesh) = perfect(&two);
+    let r = finished(&two, returned, after, None, Some(mesh));
+    assert_eq!(
+        lines(&r, Level::Info)[0],
+        "start testing subdivision for cube (2 rounds)"
+    );
+}
+
+#[test]
+fn order_does_not_matter() {
+    let f = load("lab/torus-subdivide-1.json");
+    let (returned, after, mut mesh) = perfect(&f);
+    let n = mesh.positions.len();
+    // Reverse the vertex order and renumber the edges to match.
+    mesh.positions.reverse();
+    for e in &mut mesh.edges {
+        *e = [n - 1 - e[1], n - 1 - e[0]];
+    }
+    mesh.edges.reverse();
+    let r = finished(&f, returned, after, None, Some(mesh));
+    assert!(r.passed, "{:#?}", r.entries);
+}
+
+#[test]
+fn a_vertex_missing() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mut mesh) = perfect(&f);
+    mesh.positions.pop();
+    let r = finished(&f, returned, after, None, Some(mesh));
+    assert_fails_with(&r, "number of vertices is wrong: 25 (should be 26)");
+    assert_detail(&r, "fewer vertices than one per old edge");
+}
+
+#[test]
+fn too_many_or_no_new_vertices() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mut mesh) = perfect(&f);
+    mesh.positions.push([9.0, 9.0, 9.0]);
+    let r = finished(&f, returned.clone(), after, None, Some(mesh));
+    assert_fails_with(&r, "number of vertices is wrong: 27 (should be 26)");
+    assert_detail(&r, "were edges created by split_edge split again?");
+
+    let (_, _, mut mesh) = perfect(&f);
+    mesh.positions.truncate(8);
+    let r = finished(&f, returned, after, None, Some(mesh));
+    assert_detail(&r, "no vertex was added");
+}
+
+#[test]
+fn a_vertex_moved() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mut mesh) = perfect(&f);
+    mesh.positions[3][0] += 0.01;
+    let moved = mesh.positions[3];
+    let r = finished(&f, returned.clone(), after, None, Some(mesh));
+    assert_fails_with(&r, "at least one of the vertices has incorrect position");
+    assert_detail(
+        &r,
+        "1 of 26 expected vertices have no vertex of yours within 0.00001 of them",
+    );
+    assert_detail(
+        &r,
+        &format!(
+            "your nearest vertex is v3 at ({:.6}, {:.6}, {:.6}) (0.010000 away)",
+            moved[0], moved[1], moved[2]
+        ),
+    );
+
+    // Within the tolerance is fine.
+    let (_, _, mut mesh) = perfect(&f);
+    mesh.positions[3][0] += 0.9e-5;
+    assert!(finished(&f, returned, after, None, Some(mesh)).passed);
+}
+
+#[test]
+fn a_known_mistake_is_named() {
+    let f = load("lab/cube-subdivide-1.json");
+    let mistake = f
+        .expected
+        .mistakes
+        .iter()
+        .find(|m| m.id == "old-not-moved")
+        .expect("the cube records it");
+    let (returned, after, mut mesh) = perfect(&f);
+    mesh.positions = mistake.positions.clone().unwrap();
+    let r = finished(&f, returned.clone(), after, None, Some(mesh));
+    assert_fails_with(&r, "at least one of the vertices has incorrect position");
+    assert_detail(&r, &format!("hint: {}", mistake.hint));
+
+    let no_flip = f
+        .expected
+        .mistakes
+        .iter()
+        .find(|m| m.id == "no-flip")
+        .unwrap();
+    let (_, _, mut mesh) = perfect(&f);
+    mesh.edges = no_flip.edges.clone().unwrap();
+    let r = finished(&f, returned, after, None, Some(mesh));
+    assert_fails_with(&r, "at least one of the edges connects incorrect vertices");
+    assert_detail(&r, "hint: no edge was flipped");
+}
+
+#[test]
+fn edges_wrong() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mut mesh) = perfect(&f);
+    mesh.edges.pop();
+    let r = finished(&f, returned.clone(), after, None, Some(mesh));
+    assert_fails_with(&r, "number of edges is wrong: 71 (should be 72)");
+
+    let (_, _, mut mesh) = perfect(&f);
+    let [a, b] = mesh.edges[0];
+    // Re-point one edge at a vertex it should not reach.
+    let c = (0..mesh.positions.len())
+        .find(|&c| c != a && c != b && !mesh.edges.contains(&[a.min(c), a.max(c)]))
+        .unwrap();
+    mesh.edges[0] = [a.min(c), a.max(c)];
+    let r = finished(&f, returned, after, None, Some(mesh));
+    assert_fails_with(&r, "at least one of the edges connects incorrect vertices");
+    assert_detail(&r, &format!("missing: an edge between v{a} "));
+    assert_detail(&r, &format!("extra: your edge between v{} ", a.min(c)));
+}
+
+#[test]
+fn an_invalid_mesh_stops_the_case() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, _) = perfect(&f);
+    let r = finished(
+        &f,
+        returned,
+        after,
+        Some("A halfedge's twin's twin is not itself! (h3)"),
+        None,
+    );
+    assert_fails_with(
+        &r,
+        "the result of subdivision is a invalid mesh: A halfedge's twin's twin is not itself! (h3)",
+    );
+    assert!(!lines(&r, Level::Info).contains(&"compare all vertices..."));
+}
+
+fn faulted(f: &Fixture, run: Run) -> CaseReport {
+    judge(
+        f,
+        &ChildReport {
+            run,
+            output: "debug print\n".into(),
+        },
+    )
+}
+
+#[test]
+fn faults() {
+    let f = load("lab/cube-subdivide-1.json");
+    let r = faulted(&f, Run::TimedOut(Duration::from_secs(10)));
+    assert_fails_with(&r, "loop_subdivide did not finish within 10 s");
+    assert_fails_with(
+        &faulted(&f, Run::StackOverflow),
+        "loop_subdivide overflowed the stack",
+    );
+    assert_fails_with(
+        &faulted(&f, Run::Signal(11)),
+        "loop_subdivide crashed: signal 11 (SIGSEGV: invalid memory access)",
+    );
+    assert_fails_with(
+        &faulted(&f, Run::Exited(Some(3))),
+        "loop_subdivide ended the program (exit status 3) before returning",
+    );
+    let r = faulted(
+        &f,
+        Run::Done(Outcome::Panicked {
+            message: "not yet implemented".into(),
+            location: Some("crates/meshedit/src/lib.rs:9:5".into()),
+        }),
+    );
+    assert_fails_with(&r, "loop_subdivide panicked: not yet implemented");
+    assert_detail(&r, "at crates/meshedit/src/lib.rs:9:5");
+    assert_detail(&r, "still a todo!() stub");
+    assert_eq!(r.output, "debug print\n", "the student's output is kept");
+    let r = faulted(
+        &f,
+        Run::Done(Outcome::Setup {
+            message: "input mesh: boom".into(),
+        }),
+    );
+    assert_fails_with(&r, "the case could not be set up: input mesh: boom");
+    assert_detail(&r, "not your code");
+}
+
+#[test]
+fn flip_return_values_and_counts() {
+    let f = load("lab/cube-flip-1.json");
+    let (_, after, mesh) = perfect(&f);
+    let r = finished(&f, Returned::Nothing, after, None, Some(mesh.clone()));
+    assert_fails_with(
+        &r,
+        "flip_edge returned None for an edge between two triangles: it must flip it",
+    );
+    let r = finished(
+        &f,
+        Returned::Edge { given: 4, got: 7 },
+        after,
+        None,
+        Some(mesh.clone()),
+    );
+    assert_fails_with(
+        &r,
+        "flip_edge returned Some(e7), but it must return the edge it was given (e4)",
+    );
+
+    let mut grown = after;
+    grown.edges += 1;
+    grown.halfedges += 2;
+    let r = finished(
+        &f,
+        Returned::Edge { given: 4, got: 4 },
+        grown,
+        None,
+        Some(mesh.clone()),
+    );
+    assert_fails_with(
+        &r,
+        "flip_edge added or removed elements: a flip only relinks",
+    );
+    assert_detail(&r, "after:  8 vertices, 19 edges, 12 faces, 38 halfedges");
+    assert_detail(&r, "should: 8 vertices, 18 edges, 12 faces, 36 halfedges");
+
+    let mut wrong_ends = mesh;
+    wrong_ends.returned_edge_ends = Some([0, 1]);
+    let r = finished(
+        &f,
+        Returned::Edge { given: 4, got: 4 },
+        after,
+        None,
+        Some(wrong_ends),
+    );
+    assert_fails_with(
+        &r,
+        "the returned edge e4 does not join the two vertices that faced it",
+    );
+}
+
+#[test]
+fn refusing_boundary_edges() {
+    let f = load("bonus/grid-flip-boundary.json");
+    let (_, after, mesh) = perfect(&f);
+    let r = finished(
+        &f,
+        Returned::Edge { given: 2, got: 2 },
+        after,
+        None,
+        Some(mesh.clone()),
+    );
+    assert_fails_with(
+        &r,
+        "flip_edge changed a boundary edge: it must return None and leave the mesh unchanged",
+    );
+    let mut moved = mesh;
+    moved.positions[0][2] += 1.0;
+    let r = finished(&f, Returned::Nothing, after, None, Some(moved));
+    assert_fails_with(&r, "at least one of the vertices has incorrect position");
+
+    let s = load("bonus/grid-split-boundary.json");
+    let (_, after, mesh) = perfect(&s);
+    let r = finished(&s, Returned::Nothing, after, None, Some(mesh));
+    assert_fails_with(&r, "split_edge returned None for a boundary edge: it must divide the one real triangle beside it");
+}
+
+#[test]
+fn split_checks() {
+    let f = load("lab/cube-split.json");
+    let (returned, after, mesh) = perfect(&f);
+    let Returned::Vertex {
+        id,
+        position: Some(mid),
+    } = returned
+    else {
+        unreachable!()
+    };
+    let off = [mid[0] + 0.1, mid[1], mid[2]];
+    let r = finished(
+        &f,
+        Returned::Vertex {
+            id,
+            position: Some(off),
+        },
+        after,
+        None,
+        Some(mesh.clone()),
+    );
+    assert_fails_with(
+        &r,
+        &format!(
+            "split vertex is not at the midpoint of the edge: v{id} is at ({:.6}, {:.6}, {:.6})",
+            off[0], off[1], off[2]
+        ),
+    );
+    assert_detail(&r, "(0.100000 away)");
+
+    let mut fewer = after;
+    fewer.faces -= 1;
+    let r = finished(&f, returned.clone(), fewer, None, Some(mesh.clone()));
+    assert_fails_with(&r, "split_edge added the wrong number of elements");
+
+    let fixture::Operation::Split { edge: [a, b] } = f.operation else {
+        unreachable!()
+    };
+    let across = (0..f.input.positions.len())
+        .find(|&c| c != a && c != b)
+        .unwrap();
+    let mut astray = mesh;
+    astray.returned_vertex_leads_to = Some(across);
+    let r = finished(&f, returned, after, None, Some(astray));
+    assert_fails_with(
+        &r,
+        "the new vertex's halfedge does not run along the split edge",
+    );
+    assert_detail(&r, &format!("must lead to vertex {a} or {b}"));
+}
+
+#[test]
+fn fixture_files_round_trip_and_bad_ones_are_named() {
+    let f = load("lab/cone-subdivide-1.json");
+    let text = fixture::to_json_text(&f);
+    let p = Path::new("x/cone.json");
+    assert_eq!(Fixture::from_json(&text, p).unwrap(), f);
+
+    let bad = |edit: &dyn Fn(&str) -> String| {
+        Fixture::from_json(&edit(&text), p).unwrap_err().to_string()
+    };
+    assert!(bad(&|t| t.replacen("\"schema\": 1", "\"schema\": 2", 1))
+        .starts_with("x/cone.json: schema 2, but this grader reads schema 1"));
+    assert!(bad(&|t| t.replacen("\"schema\": 1,", "", 1)).contains("no \"schema\" number"));
+    assert!(
+        bad(&|t| t.replacen("\"tolerance\": 0.00001", "\"tolerance\": 0", 1))
+            .contains("tolerance 0 is not a positive number")
+    );
+    assert!(bad(&|t| t.replacen("\"rounds\": 1", "\"rounds\": 0", 1))
+        .contains("0 rounds tests nothing"));
+    assert!(bad(&|t| t.replacen("\"object\": \"cone\",", "", 1))
+        .contains("not a valid fixture: missing field `object`"));
+    assert!(
+        bad(&|t| t.replacen("\"edges\": [\n      [0, ", "\"edges\": [\n      [99, ", 1))
+            .contains("expected edge [99,")
+    );
+    assert!(bad(&|t| t[..t.len() / 2].to_string()).contains("not valid JSON"));
+}
+
+#[test]
+fn a_fixture_in_the_wrong_folder_is_named() {
+    let dir = std::env::temp_dir().join(format!("grader-misplaced-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("bonus")).unwrap();
+    let f = load("lab/cube-flip-1.json");
+    std::fs::write(
+        dir.join("bonus/cube-flip-1.json"),
+        fixture::to_json_text(&f),
+    )
+    .unwrap();
+    let e = fixture::load_all(&dir).unwrap_err().to_string();
+    assert!(
+        e.ends_with("cube-flip-1.json: says group \"lab\" but lives in bonus/"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(dir.join("bonus")).unwrap();
+    std::fs::create_dir_all(dir.join("lab")).unwrap();
+    std::fs::write(dir.join("lab/renamed.json"), fixture::to_json_text(&f)).unwrap();
+    let e = fixture::load_all(&dir).unwrap_err().to_string();
+    assert!(
+        e.ends_with("renamed.json: is named \"cube-flip-1\" inside: rename one of them"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
