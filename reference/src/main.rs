@@ -138,6 +138,13 @@ enum Command {
     },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
+    /// Print timings: a full grade of the reference (child processes and
+    /// all) and the reference's subdivision of growing meshes.
+    Bench {
+        /// Full grades to time.
+        #[arg(long, default_value_t = 5)]
+        runs: usize,
+    },
 }
 
 fn fail(message: impl std::fmt::Display) -> ExitCode {
@@ -372,6 +379,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             }
             Ok(grader::run(&cli))
         }
+        Command::Bench { runs } => bench(runs.max(1)),
         Command::Implementations => {
             for e in mutants::catalogue() {
                 println!("{:<28} {}", e.name, e.what);
@@ -418,6 +426,53 @@ fn fixtures(root: &Path, check: bool, weights: Weights) -> Result<ExitCode, Stri
             "{} fixtures, {} written, the rest unchanged",
             files.len(),
             stale.len()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn median(mut times: Vec<f64>) -> f64 {
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn bench(runs: usize) -> Result<ExitCode, String> {
+    use std::time::Instant;
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let cases = cases::builtin(Weights::Warren).len();
+    let mut times = Vec::new();
+    for _ in 0..runs {
+        let start = Instant::now();
+        let status = std::process::Command::new(&exe)
+            .args(["grade", "--bonus", "--format", "json"])
+            .stdout(std::process::Stdio::null())
+            .status()
+            .map_err(|e| e.to_string())?;
+        if !status.success() {
+            return Err("the reference did not pass its own grade".into());
+        }
+        times.push(start.elapsed().as_secs_f64());
+    }
+    println!(
+        "full grade of the reference, {cases} cases in child processes: median {:.3} s, min {:.3} s over {runs} runs",
+        median(times.clone()),
+        times.iter().copied().fold(f64::INFINITY, f64::min)
+    );
+    for level in 0..=4 {
+        let mesh = halfedge::shapes::icosphere(level);
+        let mut ts = Vec::new();
+        let mut faces = 0;
+        for _ in 0..3 {
+            let mut m = mesh.clone();
+            let start = Instant::now();
+            solution::loop_subdivide(&mut m);
+            ts.push(start.elapsed().as_secs_f64());
+            faces = m.num_real_faces();
+        }
+        println!(
+            "loop_subdivide, icosphere({level}): {} -> {faces} faces in {:.2} ms (median of 3)",
+            mesh.num_real_faces(),
+            median(ts) * 1e3
         );
     }
     Ok(ExitCode::SUCCESS)
