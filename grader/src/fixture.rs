@@ -256,18 +256,11 @@ impl Fixture {
     }
 }
 
-/// Loads every `*.json` under `root/<group>/`, sorted by stage, then group,
-/// then name. A missing group folder is fine (the handout has no `hidden/`);
-/// a missing root or an unreadable file is an error.
-pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
-    if !root.is_dir() {
-        return Err(FixtureError {
-            path: root.to_path_buf(),
-            message: "no such fixtures folder (run from the lab's folder, or pass --fixtures DIR)"
-                .into(),
-        });
-    }
-    let mut all = Vec::new();
+/// The `*.json` files under `root/<group>/`, group by group, each group's
+/// sorted by name. A missing group folder is skipped (the handout has no
+/// `hidden/`).
+pub fn fixture_files(root: &Path) -> Result<Vec<(Group, PathBuf)>, FixtureError> {
+    let mut out = Vec::new();
     for group in Group::ALL {
         let dir = root.join(group.name());
         if !dir.is_dir() {
@@ -282,30 +275,51 @@ pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
             .filter(|p| p.extension().is_some_and(|x| x == "json"))
             .collect();
         paths.sort();
-        for path in paths {
-            let text = std::fs::read_to_string(&path).map_err(|e| FixtureError {
-                path: path.clone(),
-                message: format!("cannot read: {e}"),
-            })?;
-            let fixture = Fixture::from_json(&text, &path)?;
-            if fixture.group != group {
-                return Err(FixtureError {
-                    path,
-                    message: format!(
-                        "says group \"{}\" but lives in {}/",
-                        fixture.group.name(),
-                        group.name()
-                    ),
-                });
-            }
-            if fixture.relative_path().file_name() != path.file_name() {
-                return Err(FixtureError {
-                    path,
-                    message: format!("is named \"{}\" inside: rename one of them", fixture.name),
-                });
-            }
-            all.push(fixture);
+        out.extend(paths.into_iter().map(|p| (group, p)));
+    }
+    Ok(out)
+}
+
+/// Reads and checks one fixture file.
+pub fn load(path: &Path) -> Result<Fixture, FixtureError> {
+    let text = std::fs::read_to_string(path).map_err(|e| FixtureError {
+        path: path.to_path_buf(),
+        message: format!("cannot read: {e}"),
+    })?;
+    Fixture::from_json(&text, path)
+}
+
+/// Loads every fixture under `root`, sorted by stage, then group, then
+/// name. A missing root, an unreadable or invalid file, or a file in the
+/// wrong folder or under the wrong name is an error naming it.
+pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
+    if !root.is_dir() {
+        return Err(FixtureError {
+            path: root.to_path_buf(),
+            message: "no such fixtures folder (run from the lab's folder, or pass --fixtures DIR)"
+                .into(),
+        });
+    }
+    let mut all = Vec::new();
+    for (group, path) in fixture_files(root)? {
+        let fixture = load(&path)?;
+        if fixture.group != group {
+            return Err(FixtureError {
+                path,
+                message: format!(
+                    "says group \"{}\" but lives in {}/",
+                    fixture.group.name(),
+                    group.name()
+                ),
+            });
         }
+        if fixture.relative_path().file_name() != path.file_name() {
+            return Err(FixtureError {
+                path,
+                message: format!("is named \"{}\" inside: rename one of them", fixture.name),
+            });
+        }
+        all.push(fixture);
     }
     all.sort_by(|a, b| {
         (a.operation.stage(), a.group, &a.name).cmp(&(b.operation.stage(), b.group, &b.name))

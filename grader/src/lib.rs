@@ -96,7 +96,7 @@ pub struct Cli {
     /// Seconds each case may run before it counts as an endless loop.
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     pub timeout: f64,
-    /// Never colour [warn] lines (also off when NO_COLOR is set or output is
+    /// Never colour `[warn]` lines (also off when NO_COLOR is set or output is
     /// not a terminal).
     #[arg(long)]
     pub no_color: bool,

@@ -36,7 +36,7 @@ pub enum Run {
 #[derive(Clone, Debug)]
 pub struct ChildReport {
     pub run: Run,
-    /// stdout then stderr, cut at [`OUTPUT_CAP`] bytes each.
+    /// stdout then stderr, each cut at 8 KiB.
     pub output: String,
 }
 

@@ -378,26 +378,13 @@ pub fn case_of(f: &Fixture) -> Case {
 /// a file that is not a fixture at all is an error naming it.
 pub fn added_cases(root: &Path, builtin: &[Case]) -> Result<Vec<Case>, String> {
     let mut out = Vec::new();
-    for group in Group::ALL {
-        let dir = root.join(group.name());
-        let Ok(entries) = std::fs::read_dir(&dir) else {
+    for (group, path) in fixture::fixture_files(root).map_err(|e| e.to_string())? {
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+        if builtin.iter().any(|c| c.name == stem && c.group == group) {
             continue;
-        };
-        let mut paths: Vec<PathBuf> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "json"))
-            .collect();
-        paths.sort();
-        for path in paths {
-            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
-            if builtin.iter().any(|c| c.name == stem && c.group == group) {
-                continue;
-            }
-            let text =
-                std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            let f = Fixture::from_json(&text, &path).map_err(|e| e.to_string())?;
-            out.push(case_of(&f));
         }
+        let f = fixture::load(&path).map_err(|e| e.to_string())?;
+        out.push(case_of(&f));
     }
     Ok(out)
 }

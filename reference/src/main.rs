@@ -184,6 +184,14 @@ fn obj_edge(mesh: &Mesh, a: usize, b: usize) -> Result<[usize; 2], String> {
     Ok([a - 1, b - 1])
 }
 
+/// An OBJ file and the edge between its vertices `a` and `b` (1-based).
+fn obj_with_edge(path: &Path, a: usize, b: usize) -> Result<(Mesh, halfedge::EdgeId), String> {
+    let mesh = read_obj(path)?;
+    let [i, j] = obj_edge(&mesh, a, b)?;
+    let e = mesh.edge_between(i, j).expect("obj_edge checked it exists");
+    Ok((mesh, e))
+}
+
 fn write_obj(mesh: &Mesh, path: &Path) -> Result<(), String> {
     mesh.validate()
         .map_err(|e| format!("the reference broke the mesh: {e}"))?;
@@ -322,9 +330,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             b,
             output,
         } => {
-            let mut mesh = read_obj(&input)?;
-            let [i, j] = obj_edge(&mesh, a, b)?;
-            let e = mesh.edge_between(i, j).expect("checked");
+            let (mut mesh, e) = obj_with_edge(&input, a, b)?;
             if solution::flip_edge(&mut mesh, e).is_none() {
                 return Err(format!("the edge {a}-{b} cannot be flipped: it is on the boundary or not between two triangles"));
             }
@@ -338,9 +344,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             b,
             output,
         } => {
-            let mut mesh = read_obj(&input)?;
-            let [i, j] = obj_edge(&mesh, a, b)?;
-            let e = mesh.edge_between(i, j).expect("checked");
+            let (mut mesh, e) = obj_with_edge(&input, a, b)?;
             let Some(m) = solution::split_edge(&mut mesh, e) else {
                 return Err(format!(
                     "the edge {a}-{b} cannot be split: a face beside it is not a triangle"
