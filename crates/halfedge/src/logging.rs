@@ -38,15 +38,23 @@ pub fn short_file(path: &str) -> &str {
 /// at `info` and above are shown; `RUST_LOG` can change that. Calling it a
 /// second time does nothing.
 pub fn init(color: Color) {
+    let mut builder = builder();
+    builder.write_style(match color {
+        Color::Auto => WriteStyle::Auto,
+        Color::Never => WriteStyle::Never,
+    });
+    // A second init (e.g. in tests) keeps the first logger: not an error.
+    let _ = builder.try_init();
+}
+
+/// The logger [`init`] installs, before its colour choice: to standard
+/// output, `info` and above (or as `RUST_LOG` says), in the lab's format.
+pub fn builder() -> env_logger::Builder {
     let mut builder = env_logger::Builder::new();
     builder
         .filter_level(log::LevelFilter::Info)
         .parse_default_env()
         .target(env_logger::Target::Stdout)
-        .write_style(match color {
-            Color::Auto => WriteStyle::Auto,
-            Color::Never => WriteStyle::Never,
-        })
         .format(|buf, record| {
             let file = short_file(record.file().unwrap_or("?"));
             let line = record.line().unwrap_or(0);
@@ -62,6 +70,5 @@ pub fn init(color: Color) {
                 record.args()
             )
         });
-    // A second init (e.g. in tests) keeps the first logger: not an error.
-    let _ = builder.try_init();
+    builder
 }
