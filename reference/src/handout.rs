@@ -17,14 +17,25 @@ pub const EXCLUDED: [&str; 6] = [
     ".ci",
 ];
 
+/// What a copy of the lab is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Purpose {
+    /// The student workspace: no solution, no hidden cases, student README.
+    Handout,
+    /// A scratch workspace to grade submissions in: no solution, but the
+    /// hidden cases.
+    Grading,
+}
+
 /// What an export wrote.
 #[derive(Debug, Default)]
 pub struct Exported {
     pub files: usize,
 }
 
-fn excluded(rel: &str) -> bool {
-    EXCLUDED.contains(&rel) || rel.ends_with(".snap.new")
+fn excluded(rel: &str, purpose: Purpose) -> bool {
+    let kept_for_grading = purpose == Purpose::Grading && rel == "fixtures/hidden";
+    (EXCLUDED.contains(&rel) && !kept_for_grading) || rel.ends_with(".snap.new")
 }
 
 /// The manifest without the `reference` member.
@@ -49,7 +60,13 @@ fn student_lock(text: &str) -> String {
         .join("\n\n")
 }
 
-fn copy_tree(root: &Path, rel: &Path, dest: &Path, out: &mut Exported) -> Result<(), String> {
+fn copy_tree(
+    root: &Path,
+    rel: &Path,
+    dest: &Path,
+    purpose: Purpose,
+    out: &mut Exported,
+) -> Result<(), String> {
     let dir = root.join(rel);
     let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|e| format!("{}: {e}", dir.display()))?
@@ -60,13 +77,13 @@ fn copy_tree(root: &Path, rel: &Path, dest: &Path, out: &mut Exported) -> Result
         let name = path.file_name().expect("a directory entry has a name");
         let rel_path = rel.join(name);
         let rel_str = rel_path.to_string_lossy().replace('\\', "/");
-        if excluded(&rel_str) {
+        if excluded(&rel_str, purpose) {
             continue;
         }
         let target = dest.join(&rel_path);
         if path.is_dir() {
             std::fs::create_dir_all(&target).map_err(|e| format!("{}: {e}", target.display()))?;
-            copy_tree(root, &rel_path, dest, out)?;
+            copy_tree(root, &rel_path, dest, purpose, out)?;
         } else {
             let write = |bytes: &[u8]| {
                 std::fs::write(&target, bytes).map_err(|e| format!("{}: {e}", target.display()))
@@ -80,7 +97,9 @@ fn copy_tree(root: &Path, rel: &Path, dest: &Path, out: &mut Exported) -> Result
                     let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
                     write(student_lock(&text).as_bytes())?;
                 }
-                "README.md" => write(include_str!("../handout/README.md").as_bytes())?,
+                "README.md" if purpose == Purpose::Handout => {
+                    write(include_str!("../handout/README.md").as_bytes())?
+                }
                 _ => {
                     std::fs::copy(&path, &target)
                         .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -95,6 +114,11 @@ fn copy_tree(root: &Path, rel: &Path, dest: &Path, out: &mut Exported) -> Result
 /// Writes the student workspace for the lab at `root` into `dest`, which
 /// must not exist yet or be empty, and must not lie inside the lab.
 pub fn export(root: &Path, dest: &Path) -> Result<Exported, String> {
+    copy_lab(root, dest, Purpose::Handout)
+}
+
+/// Copies the lab at `root` into `dest` (new or empty, outside the lab).
+pub fn copy_lab(root: &Path, dest: &Path, purpose: Purpose) -> Result<Exported, String> {
     let root = root
         .canonicalize()
         .map_err(|e| format!("{}: {e}", root.display()))?;
@@ -124,6 +148,6 @@ pub fn export(root: &Path, dest: &Path) -> Result<Exported, String> {
         ));
     }
     let mut out = Exported::default();
-    copy_tree(&root, Path::new(""), &dest, &mut out)?;
+    copy_tree(&root, Path::new(""), &dest, purpose, &mut out)?;
     Ok(out)
 }

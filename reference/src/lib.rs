@@ -8,10 +8,12 @@
 //!   mistake, for the fixtures' hints and the grader's tests.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`handout`]: exporting the student workspace.
+//! - [`class`]: grading a folder of submissions.
 //!
 //! The command line (`cargo run -p reference -- --help`) is in `main.rs`.
 
 pub mod cases;
+pub mod class;
 pub mod handout;
 pub mod mutants;
 pub mod solution;

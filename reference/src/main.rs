@@ -136,6 +136,18 @@ enum Command {
         #[command(flatten)]
         grader: grader::Cli,
     },
+    /// Grade every submission in SUBMISSIONS (NAME.rs, NAME/lib.rs or
+    /// NAME/crates/meshedit/src/lib.rs), hidden cases included: writes
+    /// NAME.txt, NAME.results.json (Gradescope's format) and summary.csv.
+    Class {
+        submissions: PathBuf,
+        /// Where the reports go.
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Seconds each case may run.
+        #[arg(long, default_value_t = 10.0)]
+        timeout: f64,
+    },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
     /// Print timings: a full grade of the reference (child processes and
@@ -384,6 +396,27 @@ fn run(command: Command) -> Result<ExitCode, String> {
             Ok(grader::run(&cli))
         }
         Command::Bench { runs } => bench(runs.max(1)),
+        Command::Class {
+            submissions,
+            out,
+            timeout,
+        } => {
+            if !(timeout > 0.0 && timeout.is_finite()) {
+                return Err("--timeout must be a positive number of seconds".into());
+            }
+            let target = lab_root().join("target").join("class");
+            let rows =
+                reference::class::grade_class(&lab_root(), &submissions, &out, &target, timeout)?;
+            for r in &rows {
+                println!("{:<24} {:>5} / {:<5} {}", r.name, r.score, r.max, r.status);
+            }
+            println!(
+                "wrote {} reports and {}",
+                rows.len(),
+                out.join("summary.csv").display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Implementations => {
             for e in mutants::catalogue() {
                 println!("{:<28} {}", e.name, e.what);

@@ -392,3 +392,71 @@ fn handout_has_no_solution_builds_and_grades_the_stubs() {
     );
     std::fs::remove_dir_all(dir.parent().unwrap()).unwrap();
 }
+
+#[test]
+fn a_class_is_graded_into_reports_and_a_summary() {
+    let dir = scratch("class");
+    let subs = dir.join("submissions");
+    std::fs::create_dir_all(subs.join("bob")).unwrap();
+    std::fs::copy(
+        root().join("crates/meshedit/src/lib.rs"),
+        subs.join("alice.rs"),
+    )
+    .unwrap();
+    // The model solution pasted in whole, as a student's lib.rs.
+    std::fs::copy(
+        root().join("reference/src/solution.rs"),
+        subs.join("bob/lib.rs"),
+    )
+    .unwrap();
+    std::fs::write(subs.join("carol.rs"), "pub fn flip_edge( {\n").unwrap();
+    let out = dir.join("out");
+    // A target folder of its own: the handout test builds a `grader` binary
+    // at the same time, and one must not overwrite the other.
+    let rows =
+        reference::class::grade_class(&root(), &subs, &out, &root().join("target/class-test"), 5.0)
+            .unwrap();
+    let summary: Vec<(&str, f64, &str)> = rows
+        .iter()
+        .map(|r| (r.name.as_str(), r.score, r.status.as_str()))
+        .collect();
+    assert_eq!(summary[0], ("alice", 0.0, "failed"));
+    assert_eq!(summary[1].0, "bob");
+    assert_eq!(
+        summary[1].2,
+        "passed",
+        "{}",
+        std::fs::read_to_string(out.join("bob.txt")).unwrap()
+    );
+    assert_eq!(rows[1].score, rows[1].max, "every counted case passed");
+    assert!(
+        rows[1].max >= 40.0,
+        "lab and hidden cases count: {}",
+        rows[1].max
+    );
+    assert_eq!(summary[2], ("carol", 0.0, "does not compile"));
+    assert!(std::fs::read_to_string(out.join("carol.txt"))
+        .unwrap()
+        .contains("unclosed delimiter"));
+    assert!(
+        std::fs::read_to_string(out.join("alice.txt"))
+            .unwrap()
+            .contains("icosphere"),
+        "hidden cases graded"
+    );
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(
+        csv.starts_with("student,score,max_score,status\nalice,0,"),
+        "{csv}"
+    );
+    assert!(csv.contains("\ncarol,0,0,does not compile\n"), "{csv}");
+
+    let stray = dir.join("stray");
+    std::fs::create_dir_all(stray.join("dave")).unwrap();
+    let e = reference::class::find_submissions(&stray).unwrap_err();
+    assert!(
+        e.ends_with("dave: no lib.rs or crates/meshedit/src/lib.rs inside"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
