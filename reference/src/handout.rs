@@ -151,3 +151,34 @@ pub fn copy_lab(root: &Path, dest: &Path, purpose: Purpose) -> Result<Exported, 
     copy_tree(&root, Path::new(""), &dest, purpose, &mut out)?;
     Ok(out)
 }
+
+/// Writes a Gradescope autograder into `dest` (new or empty): its two
+/// scripts, and the lab for grading (hidden cases in, solution out) as
+/// `source/`, where Gradescope puts it.
+pub fn gradescope(root: &Path, dest: &Path) -> Result<(), String> {
+    copy_lab(root, &dest.join("source"), Purpose::Grading)?;
+    for (name, text) in [
+        ("setup.sh", include_str!("../gradescope/setup.sh")),
+        (
+            "run_autograder",
+            include_str!("../gradescope/run_autograder"),
+        ),
+    ] {
+        let path = dest.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        make_executable(&path)?;
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn make_executable(path: &Path) -> Result<(), String> {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755))
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(not(unix))]
+fn make_executable(_: &Path) -> Result<(), String> {
+    Ok(())
+}

@@ -148,6 +148,10 @@ enum Command {
         #[arg(long, default_value_t = 10.0)]
         timeout: f64,
     },
+    /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
+    /// source/ (the lab with hidden cases, without the solution). Zip DIR's
+    /// contents and upload.
+    Gradescope { dir: PathBuf },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
     /// Print timings: a full grade of the reference (child processes and
@@ -396,6 +400,14 @@ fn run(command: Command) -> Result<ExitCode, String> {
             Ok(grader::run(&cli))
         }
         Command::Bench { runs } => bench(runs.max(1)),
+        Command::Gradescope { dir } => {
+            handout::gradescope(&lab_root(), &dir)?;
+            println!(
+                "wrote {}: zip its contents (setup.sh at the top) and upload them",
+                dir.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Class {
             submissions,
             out,

@@ -460,3 +460,63 @@ fn a_class_is_graded_into_reports_and_a_summary() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_gradescope_autograder_grades_a_submission() {
+    let dir = scratch("gradescope");
+    let ag = dir.join("autograder");
+    let r = run(&["gradescope", ag.to_str().unwrap()]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        ag.join("source/fixtures/hidden").is_dir(),
+        "hidden cases graded"
+    );
+    assert!(
+        !ag.join("source/reference").exists(),
+        "no solution on the grading server"
+    );
+    let script = ag.join("run_autograder");
+    let grade = |lib: &Path| {
+        let _ = std::fs::remove_dir_all(ag.join("submission"));
+        std::fs::create_dir_all(ag.join("submission/crates/meshedit/src")).unwrap();
+        std::fs::copy(lib, ag.join("submission/crates/meshedit/src/lib.rs")).unwrap();
+        let out = Command::new("bash")
+            .arg(&script)
+            .env("AUTOGRADER", &ag)
+            .env("CARGO_TARGET_DIR", root().join("target/gradescope-test"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(ag.join("results/results.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let good = grade(&root().join("reference/src/solution.rs"));
+    let max: f64 = good["tests"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["max_score"].as_f64().unwrap())
+        .sum();
+    assert!(max >= 40.0);
+    assert_eq!(
+        good["score"].as_f64(),
+        Some(max),
+        "the model solution gets full marks"
+    );
+    let broken = dir.join("broken.rs");
+    std::fs::write(&broken, "pub fn flip_edge( {\n").unwrap();
+    let bad = grade(&broken);
+    assert_eq!(bad["score"].as_f64(), Some(0.0));
+    assert!(
+        bad["output"]
+            .as_str()
+            .unwrap()
+            .starts_with("Your code does not compile:"),
+        "{bad}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
