@@ -551,3 +551,34 @@ fn a_fixture_in_the_wrong_folder_is_named() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn warnings_are_red_only_with_colour_and_the_verdict_is_last() {
+    let f = load("lab/cube-subdivide-1.json");
+    let failed = faulted(&f, Run::StackOverflow);
+    let plain = grader::report::text(std::slice::from_ref(&failed), false, false);
+    assert!(!plain.contains('\u{1b}'), "{plain}");
+    assert!(plain.trim_end().ends_with("[warn] test failed"), "{plain}");
+    assert!(
+        plain.contains("    your code printed:\n    | debug print\n"),
+        "{plain}"
+    );
+    let red = grader::report::text(std::slice::from_ref(&failed), false, true);
+    assert!(
+        red.contains(" \u{1b}[31m[warn] test failed\u{1b}[0m\n"),
+        "{red}"
+    );
+    assert!(
+        red.contains(" [info] start testing subdivision for cube\n"),
+        "info stays plain: {red}"
+    );
+
+    let (returned, after, mesh) = perfect(&f);
+    let passed = finished(&f, returned, after, None, Some(mesh));
+    let text = grader::report::text(&[passed], false, true);
+    assert!(
+        text.trim_end()
+            .ends_with("[info] all tests passed, congratulations!"),
+        "{text}"
+    );
+}
