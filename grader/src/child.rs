@@ -7,7 +7,7 @@ use std::cell::RefCell;
 use std::panic::{self, AssertUnwindSafe};
 use std::path::Path;
 
-use halfedge::{DVec3, EdgeId, Mesh, VertexId};
+use halfedge::{EdgeId, Mesh, VertexId};
 use serde::{Deserialize, Serialize};
 
 use crate::fixture::{Fixture, Operation};
@@ -125,16 +125,6 @@ fn budget(fixture: &Fixture) -> usize {
     (expected * 16).max(10_000)
 }
 
-fn input_mesh(fixture: &Fixture) -> Result<Mesh, String> {
-    let positions: Vec<DVec3> = fixture
-        .input
-        .positions
-        .iter()
-        .map(|p| DVec3::from_array(*p))
-        .collect();
-    Mesh::from_faces(&positions, &fixture.input.faces).map_err(|e| format!("input mesh: {e}"))
-}
-
 fn edge_of(mesh: &Mesh, [a, b]: [usize; 2]) -> Result<EdgeId, String> {
     mesh.edge_between(a, b)
         .ok_or_else(|| format!("the input has no edge between vertices {a} and {b}"))
@@ -142,9 +132,13 @@ fn edge_of(mesh: &Mesh, [a, b]: [usize; 2]) -> Result<EdgeId, String> {
 
 /// Runs the case and returns what happened.
 pub fn run_case(fixture: &Fixture, imp: &Implementation) -> Outcome {
-    let mut mesh = match input_mesh(fixture) {
+    let mut mesh = match fixture.input.to_mesh() {
         Ok(m) => m,
-        Err(message) => return Outcome::Setup { message },
+        Err(e) => {
+            return Outcome::Setup {
+                message: format!("input mesh: {e}"),
+            }
+        }
     };
     let target = match fixture.operation {
         Operation::Flip { edge } | Operation::Split { edge } => match edge_of(&mesh, edge) {
@@ -236,12 +230,11 @@ fn read_result(mesh: &Mesh, returned: &Returned) -> MeshResult {
 pub fn child_main(fixture_path: &Path, result_path: &Path, imp: &Implementation) -> i32 {
     // The student's log lines show up in the captured output.
     halfedge::logging::init(halfedge::logging::Color::Never);
-    let outcome = match std::fs::read_to_string(fixture_path)
-        .map_err(|e| e.to_string())
-        .and_then(|t| Fixture::from_json(&t, fixture_path).map_err(|e| e.to_string()))
-    {
+    let outcome = match crate::fixture::load(fixture_path) {
         Ok(fixture) => run_case(&fixture, imp),
-        Err(message) => Outcome::Setup { message },
+        Err(e) => Outcome::Setup {
+            message: e.to_string(),
+        },
     };
     let text = serde_json::to_string(&outcome).expect("outcomes serialize");
     match std::fs::write(result_path, text) {

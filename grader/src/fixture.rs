@@ -71,6 +71,27 @@ pub struct MeshData {
     pub faces: Vec<Vec<usize>>,
 }
 
+impl MeshData {
+    /// A mesh as indexed polygons (its real faces).
+    pub fn from_mesh(mesh: &halfedge::Mesh) -> MeshData {
+        let (positions, faces) = mesh.to_faces();
+        MeshData {
+            positions: positions.iter().map(|p| p.to_array()).collect(),
+            faces,
+        }
+    }
+
+    /// Builds the mesh, with every check of `Mesh::from_faces`.
+    pub fn to_mesh(&self) -> Result<halfedge::Mesh, halfedge::MeshError> {
+        let positions: Vec<halfedge::DVec3> = self
+            .positions
+            .iter()
+            .map(|p| halfedge::DVec3::from_array(*p))
+            .collect();
+        halfedge::Mesh::from_faces(&positions, &self.faces)
+    }
+}
+
 /// What the case does to the input mesh. Edges are named by their two
 /// endpoints' input indices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use grader::fixture::{
     self, Expected, Fixture, Group, MeshData, Mistake, Operation, Returns, WeightRule, SCHEMA,
 };
-use halfedge::{shapes, DVec3, EdgeId, Mesh};
+use halfedge::{shapes, EdgeId, Mesh};
 
 use crate::mutants;
 use crate::solution::{self, Weights};
@@ -24,25 +24,6 @@ pub struct Case {
     pub operation: Operation,
     pub weights: Weights,
     pub tolerance: f64,
-}
-
-/// The mesh as fixture data.
-pub fn mesh_data(mesh: &Mesh) -> MeshData {
-    let (positions, faces) = mesh.to_faces();
-    MeshData {
-        positions: positions.iter().map(|p| p.to_array()).collect(),
-        faces,
-    }
-}
-
-/// The fixture data as a mesh.
-pub fn data_mesh(data: &MeshData) -> Result<Mesh, halfedge::MeshError> {
-    let positions: Vec<DVec3> = data
-        .positions
-        .iter()
-        .map(|p| DVec3::from_array(*p))
-        .collect();
-    Mesh::from_faces(&positions, &data.faces)
 }
 
 fn ends(mesh: &Mesh, e: EdgeId) -> [usize; 2] {
@@ -108,7 +89,7 @@ fn case(
         name: name.to_string(),
         object: object.to_string(),
         group,
-        input: mesh_data(mesh),
+        input: MeshData::from_mesh(mesh),
         operation,
         weights,
         tolerance: TOLERANCE,
@@ -270,7 +251,10 @@ fn sorted_edges(mesh: &Mesh) -> Vec<[usize; 2]> {
 
 /// Runs the reference on the case and returns the fixture, or why not.
 pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
-    let input = data_mesh(&case.input).map_err(|e| format!("input mesh: {e}"))?;
+    let input = case
+        .input
+        .to_mesh()
+        .map_err(|e| format!("input mesh: {e}"))?;
     let mut mesh = input.clone();
     let edge_at = |[a, b]: [usize; 2]| {
         input

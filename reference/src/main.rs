@@ -291,15 +291,11 @@ fn run(command: Command) -> Result<ExitCode, String> {
             if taken {
                 return Err(format!("a case named {name:?} exists already: pass --name"));
             }
-            let (positions, faces) = mesh.to_faces();
             let case = Case {
                 name,
                 object: object.unwrap_or(stem),
                 group,
-                input: MeshData {
-                    positions: positions.iter().map(|p| p.to_array()).collect(),
-                    faces,
-                },
+                input: MeshData::from_mesh(&mesh),
                 operation,
                 weights: weights.weights.weights(),
                 tolerance,
