@@ -8,6 +8,7 @@ use std::f64::consts::TAU;
 use halfedge::{DVec3, EdgeId, HalfedgeId, Mesh, VertexId};
 
 /// How an old vertex's new position weighs its neighbours.
+// No clap derive here: this file must compile pasted into a student's crate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Weights {
     /// The lab's (Warren's): u = 3/16 when n = 3, else 3/(8n).
