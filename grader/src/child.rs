@@ -1,16 +1,23 @@
-//! The child process: runs one case's student function on its input mesh
-//! and writes what happened as JSON for the parent to judge. All judging is
-//! done in the parent, so nothing the student's code prints or does here can
-//! pass for a verdict.
+//! Both ends of a case's child process.
+//!
+//! [`serve`] is the child: it reads a [`Request`] (the input mesh and the
+//! operation, never the expected result), calls the student's function
+//! under `catch_unwind` with a silent panic hook, and sends back the mesh as
+//! the function left it. It judges nothing and reads no file.
+//!
+//! [`analyze`] is the parent's reading of what came back: counts, the first
+//! broken link, the result as positions and edges. All of it runs in the
+//! parent, on data only, so nothing the student's code does can pass for a
+//! verdict.
 
 use std::cell::RefCell;
+use std::io::{Read, Write};
 use std::panic::{self, AssertUnwindSafe};
-use std::path::Path;
 
 use halfedge::{EdgeId, Mesh, VertexId};
 use serde::{Deserialize, Serialize};
 
-use crate::fixture::{Fixture, Operation};
+use crate::wire::{self, Answer, Op, Ran, Request};
 use crate::Implementation;
 
 /// Element counts: vertices, edges, faces (with holes), halfedges.
@@ -71,17 +78,18 @@ pub enum Outcome {
         returned: Returned,
         before: Counts,
         after: Counts,
-        /// `validate()`'s complaint, as "message (element)".
+        /// The first thing wrong with the result's links or positions.
         invalid: Option<String>,
         mesh: Option<MeshResult>,
+        /// Every record, positions to the bit, is as it was sent.
+        #[serde(default)]
+        unchanged: bool,
     },
     /// It panicked (a `todo!()` included).
     Panicked {
         message: String,
         location: Option<String>,
     },
-    /// The fixture's input could not be set up: not the student's fault.
-    Setup { message: String },
 }
 
 thread_local! {
@@ -100,7 +108,7 @@ fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// Runs `f`, turning a panic into its message and location. The default
 /// panic hook is silenced so no backtrace reaches the student's screen.
-fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, (String, Option<String>)> {
+pub fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, (String, Option<String>)> {
     panic::set_hook(Box::new(|info| {
         let location = info
             .location()
@@ -116,92 +124,153 @@ fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, (String, Option<String>)> {
     })
 }
 
-/// How many elements the mesh may grow to: generous for any correct answer,
-/// small enough to stop runaway splitting in well under a second.
-fn budget(fixture: &Fixture) -> usize {
-    let e = &fixture.expected;
-    // V + E + F + H of the expected result, bounded by 2E for faces and halfedges.
-    let expected = e.positions.len() + e.edges.len() * 5;
-    (expected * 16).max(10_000)
-}
-
-fn edge_of(mesh: &Mesh, [a, b]: [usize; 2]) -> Result<EdgeId, String> {
-    mesh.edge_between(a, b)
-        .ok_or_else(|| format!("the input has no edge between vertices {a} and {b}"))
-}
-
-/// Runs the case and returns what happened.
-pub fn run_case(fixture: &Fixture, imp: &Implementation) -> Outcome {
-    let mut mesh = match fixture.input.to_mesh() {
-        Ok(m) => m,
-        Err(e) => {
-            return Outcome::Setup {
-                message: format!("input mesh: {e}"),
-            }
-        }
-    };
-    let target = match fixture.operation {
-        Operation::Flip { edge } | Operation::Split { edge } => match edge_of(&mesh, edge) {
-            Ok(e) => Some(e),
-            Err(message) => return Outcome::Setup { message },
+/// Runs the request's operation on its mesh with `imp`.
+pub fn run_request(req: Request, imp: &Implementation) -> Ran {
+    let mut mesh = req.mesh;
+    halfedge::mesh::set_process_element_budget(Some(req.budget as usize));
+    let ran = guarded(|| match req.op {
+        Op::Flip(e) => match (imp.flip_edge)(&mut mesh, e) {
+            None => Answer::Nothing,
+            Some(got) => Answer::Edge(got),
         },
-        Operation::Subdivide { .. } => None,
-    };
-    let before = Counts::of(&mesh);
-    mesh.set_element_budget(Some(budget(fixture)));
-
-    let ran = guarded(|| match fixture.operation {
-        Operation::Flip { .. } => {
-            let given = target.expect("flip has an edge");
-            match (imp.flip_edge)(&mut mesh, given) {
-                None => Returned::Nothing,
-                Some(got) => Returned::Edge {
-                    given: given.0,
-                    got: got.0,
-                },
-            }
-        }
-        Operation::Split { .. } => {
-            match (imp.split_edge)(&mut mesh, target.expect("split has an edge")) {
-                None => Returned::Nothing,
-                Some(v) => Returned::Vertex {
-                    id: v.0,
-                    position: None,
-                },
-            }
-        }
-        Operation::Subdivide { rounds } => {
+        Op::Split(e) => match (imp.split_edge)(&mut mesh, e) {
+            None => Answer::Nothing,
+            Some(v) => Answer::Vertex(v),
+        },
+        Op::Subdivide { rounds } => {
             for _ in 0..rounds {
                 (imp.loop_subdivide)(&mut mesh);
             }
-            Returned::Unit
+            Answer::Unit
         }
     });
-    let mut returned = match ran {
-        Ok(r) => r,
-        Err((message, location)) => return Outcome::Panicked { message, location },
-    };
-    mesh.set_element_budget(None);
-    if let Returned::Vertex { id, position } = &mut returned {
-        if (*id as usize) < mesh.num_vertices() {
-            *position = Some(mesh[VertexId(*id)].pos.to_array());
-        }
+    halfedge::mesh::set_process_element_budget(None);
+    match ran {
+        Ok(answer) => Ran::Returned { answer, mesh },
+        Err((message, location)) => Ran::Panicked { message, location },
     }
+}
 
-    let after = Counts::of(&mesh);
-    let invalid = mesh.validate().err().map(|e| e.to_string());
-    let result = if invalid.is_none() {
-        // A valid mesh can be read without panicking; guard all the same.
-        guarded(|| read_result(&mesh, &returned)).ok()
-    } else {
-        None
+/// The child's whole life: read the request on stdin, run it, send the
+/// frames on the result channel, exit. Standard output is moved onto
+/// standard error first, so the student's prints never mix with frames.
+pub fn serve(imp: &Implementation) -> ! {
+    use std::os::fd::AsFd;
+    // The result channel: stdout's pipe, kept on a close-on-exec descriptor.
+    let channel = match std::io::stdout().as_fd().try_clone_to_owned() {
+        Ok(fd) => fd,
+        Err(e) => {
+            eprintln!("grader child: no result channel: {e}");
+            std::process::exit(3);
+        }
     };
+    // SAFETY: plain dup2 of our own descriptors.
+    unsafe {
+        libc::dup2(2, 1);
+    }
+    let mut channel = std::fs::File::from(channel);
+    let mut bytes = Vec::new();
+    if let Err(e) = std::io::stdin().read_to_end(&mut bytes) {
+        eprintln!("grader child: cannot read the request: {e}");
+        std::process::exit(3);
+    }
+    let req = match Request::decode(&bytes) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("grader child: bad request: {e}");
+            std::process::exit(3);
+        }
+    };
+    drop(bytes);
+    // The student's log lines show up in the captured output.
+    halfedge::logging::init(halfedge::logging::Color::Never);
+    let _ = channel.write_all(&wire::started_frame());
+    let _ = channel.flush();
+    let ran = run_request(req, imp);
+    let _ = channel.write_all(&wire::result_frame(&ran));
+    let _ = channel.flush();
+    let _ = std::io::stderr().flush();
+    std::process::exit(0)
+}
+
+/// "vertex v7 is at (NaN, 0, 1)" for the first vertex whose position is
+/// not a finite number.
+fn non_finite(mesh: &Mesh) -> Option<String> {
+    let (vertices, ..) = mesh.records();
+    let (i, v) = vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.pos.is_finite())?;
+    let p = v.pos;
+    Some(format!(
+        "vertex v{i} is at ({}, {}, {}): a position must be a finite number",
+        p.x, p.y, p.z
+    ))
+}
+
+fn same_records(a: &Mesh, b: &Mesh) -> bool {
+    let (av, ae, af, ah) = a.records();
+    let (bv, be, bf, bh) = b.records();
+    let bits = |v: &[halfedge::Vertex]| -> Vec<[u64; 3]> {
+        v.iter()
+            .map(|v| v.pos.to_array().map(f64::to_bits))
+            .collect()
+    };
+    let links = |v: &[halfedge::Vertex]| -> Vec<_> { v.iter().map(|v| v.halfedge).collect() };
+    bits(av) == bits(bv)
+        && links(av) == links(bv)
+        && ae
+            .iter()
+            .map(|e| e.halfedge)
+            .eq(be.iter().map(|e| e.halfedge))
+        && af == bf
+        && ah == bh
+}
+
+/// The parent's reading of a finished child: counts, validation, the result
+/// as positions and edges. `input` is the mesh that was sent, `op` the
+/// operation as sent (in the mesh's own ids).
+pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
+    let (answer, mesh) = match ran {
+        Ran::Panicked { message, location } => return Outcome::Panicked { message, location },
+        Ran::Returned { answer, mesh } => (answer, mesh),
+    };
+    let returned = match (answer, op) {
+        (Answer::Unit, _) => Returned::Unit,
+        (Answer::Nothing, _) => Returned::Nothing,
+        (Answer::Edge(got), Op::Flip(given) | Op::Split(given)) => Returned::Edge {
+            given: given.0,
+            got: got.0,
+        },
+        (Answer::Edge(got), _) => Returned::Edge {
+            given: got.0,
+            got: got.0,
+        },
+        (Answer::Vertex(v), _) => Returned::Vertex {
+            id: v.0,
+            position: (v.index() < mesh.num_vertices()).then(|| mesh[v].pos.to_array()),
+        },
+    };
+    let unchanged = same_records(input, &mesh);
+    // The checks walk a mesh the student's code built: guard them all the same.
+    let checked = guarded(|| {
+        let invalid = non_finite(&mesh).or_else(|| mesh.validate().err().map(|e| e.to_string()));
+        let result = invalid.is_none().then(|| read_result(&mesh, &returned));
+        (invalid, result)
+    });
+    let (invalid, result) = checked.unwrap_or_else(|(message, _)| {
+        (
+            Some(format!("the mesh could not be walked: {message}")),
+            None,
+        )
+    });
     Outcome::Finished {
         returned,
-        before,
-        after,
+        before: Counts::of(input),
+        after: Counts::of(&mesh),
         invalid,
         mesh: result,
+        unchanged,
     }
 }
 
@@ -224,24 +293,4 @@ fn read_result(mesh: &Mesh, returned: &Returned) -> MeshResult {
         _ => {}
     }
     result
-}
-
-/// The child's whole job: read the fixture, run, write the outcome.
-pub fn child_main(fixture_path: &Path, result_path: &Path, imp: &Implementation) -> i32 {
-    // The student's log lines show up in the captured output.
-    halfedge::logging::init(halfedge::logging::Color::Never);
-    let outcome = match crate::fixture::load(fixture_path) {
-        Ok(fixture) => run_case(&fixture, imp),
-        Err(e) => Outcome::Setup {
-            message: e.to_string(),
-        },
-    };
-    let text = serde_json::to_string(&outcome).expect("outcomes serialize");
-    match std::fs::write(result_path, text) {
-        Ok(()) => 0,
-        Err(e) => {
-            eprintln!("grader child: cannot write {}: {e}", result_path.display());
-            3
-        }
-    }
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 /// The schema version this grader reads and the reference writes.
-pub const SCHEMA: u32 = 1;
+pub const SCHEMA: u32 = 2;
 
 /// One graded case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -169,6 +169,42 @@ pub enum Returns {
     /// `Some(v)` for a new vertex at `position`, whose halfedge runs to one
     /// of the split edge's ends.
     Vertex { position: [f64; 3] },
+    /// `loop_subdivide` must panic, with a message that says a face is not
+    /// a triangle.
+    Panic,
+}
+
+/// The smallest and largest tolerance a fixture may have, as fractions of
+/// the input mesh's size (the diagonal of its bounding box).
+pub const TOLERANCE_RANGE: (f64, f64) = (1e-12, 1e-2);
+
+/// The diagonal of the bounding box of `positions` (0 for none).
+pub fn mesh_size(positions: &[[f64; 3]]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if positions.is_empty() {
+        return 0.0;
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Why a tolerance is out of range for a mesh of this size, if it is.
+pub fn tolerance_problem(tolerance: f64, size: f64) -> Option<String> {
+    let (lo, hi) = (TOLERANCE_RANGE.0 * size, TOLERANCE_RANGE.1 * size);
+    if tolerance.is_finite() && tolerance >= lo && tolerance <= hi {
+        return None;
+    }
+    Some(format!(
+        "tolerance {tolerance} is out of range: it must be between {lo:e} and {hi:e} \
+         ({:e} to {:e} of the mesh's size, {size})",
+        TOLERANCE_RANGE.0, TOLERANCE_RANGE.1
+    ))
 }
 
 /// What a known mistake produces: positions, edges, or both, where they
@@ -230,15 +266,12 @@ impl Fixture {
     fn check(&self) -> Result<(), String> {
         let nin = self.input.positions.len();
         let nout = self.expected.positions.len();
-        if !(self.tolerance > 0.0 && self.tolerance.is_finite()) {
-            return Err(format!(
-                "tolerance {} is not a positive number",
-                self.tolerance
-            ));
-        }
         let finite = |ps: &[[f64; 3]]| ps.iter().flatten().all(|x| x.is_finite());
         if !finite(&self.input.positions) || !finite(&self.expected.positions) {
             return Err("a position is not a finite number".into());
+        }
+        if let Some(problem) = tolerance_problem(self.tolerance, mesh_size(&self.input.positions)) {
+            return Err(problem);
         }
         if let Some(face) = self
             .input
@@ -260,6 +293,17 @@ impl Fixture {
                 "expected edge {e:?} refers to a vertex past the {nout} expected positions"
             ));
         }
+        if let Some(w) = self.expected.edges.windows(2).find(|w| w[0] >= w[1]) {
+            return Err(format!(
+                "expected edges {:?} and {:?} are not sorted and distinct",
+                w[0], w[1]
+            ));
+        }
+        if let Some(e) = self.expected.edges.iter().find(|e| e[0] >= e[1]) {
+            return Err(format!(
+                "expected edge {e:?} must list its smaller end first"
+            ));
+        }
         let edge_ok = |[a, b]: [usize; 2]| a < nin && b < nin && a != b;
         match self.operation {
             Operation::Flip { edge } | Operation::Split { edge } if !edge_ok(edge) => {
@@ -272,6 +316,22 @@ impl Fixture {
             }
             _ => {}
         }
+        let returns_fit = matches!(
+            (self.operation, self.expected.returns),
+            (
+                Operation::Flip { .. },
+                Some(Returns::Edge { .. } | Returns::Refused)
+            ) | (
+                Operation::Split { .. },
+                Some(Returns::Vertex { .. } | Returns::Refused)
+            ) | (Operation::Subdivide { .. }, None | Some(Returns::Panic))
+        );
+        if !returns_fit {
+            return Err(format!(
+                "expected.returns {:?} does not fit the operation {:?}",
+                self.expected.returns, self.operation
+            ));
+        }
         for m in &self.expected.mistakes {
             if m.positions.as_ref().is_some_and(|p| p.len() != nout) {
                 return Err(format!(
@@ -281,6 +341,37 @@ impl Fixture {
             }
         }
         Ok(())
+    }
+
+    /// Builds the input mesh and checks the case makes sense on it: the mesh
+    /// is valid and the operation's edge is one of its edges. An error here
+    /// is the fixture's fault, never the student's.
+    pub fn input_mesh(&self) -> Result<halfedge::Mesh, String> {
+        let mesh = self
+            .input
+            .to_mesh()
+            .map_err(|e| format!("the input mesh is not valid: {e}"))?;
+        mesh.validate()
+            .map_err(|e| format!("the input mesh is not valid: {e}"))?;
+        if let Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } = self.operation
+        {
+            if mesh.edge_between(a, b).is_none() {
+                return Err(format!(
+                    "the operation's edge {a}-{b} is not an edge of the input mesh"
+                ));
+            }
+        }
+        Ok(mesh)
+    }
+
+    /// The case's edge in the input mesh, for a flip or split.
+    pub fn edge_in(&self, mesh: &halfedge::Mesh) -> Option<halfedge::EdgeId> {
+        match self.operation {
+            Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } => {
+                mesh.edge_between(a, b)
+            }
+            Operation::Subdivide { .. } => None,
+        }
     }
 
     /// The file this fixture lives in, under the fixtures root.
@@ -333,9 +424,19 @@ pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
                 .into(),
         });
     }
-    let mut all = Vec::new();
+    let mut all: Vec<Fixture> = Vec::new();
     for (group, path) in fixture_files(root)? {
         let fixture = load(&path)?;
+        if let Some(twin) = all.iter().find(|f| f.name == fixture.name) {
+            return Err(FixtureError {
+                path,
+                message: format!(
+                    "a case named \"{}\" exists already in {}/: case names must be unique",
+                    fixture.name,
+                    twin.group.name()
+                ),
+            });
+        }
         if fixture.group != group {
             return Err(FixtureError {
                 path,
@@ -354,10 +455,68 @@ pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
         }
         all.push(fixture);
     }
+    check_digests(root)?;
     all.sort_by(|a, b| {
         (a.operation.stage(), a.group, &a.name).cmp(&(b.operation.stage(), b.group, &b.name))
     });
     Ok(all)
+}
+
+/// Checks every group folder's files against its `SHA256SUMS`: each
+/// fixture listed, each listed file present, each digest right.
+pub fn check_digests(root: &Path) -> Result<(), FixtureError> {
+    use crate::digest;
+    let err = |path: PathBuf, message: String| FixtureError { path, message };
+    let mut by_group: Vec<(PathBuf, Vec<PathBuf>)> = Vec::new();
+    for (group, path) in fixture_files(root)? {
+        let dir = root.join(group.name());
+        match by_group.last_mut() {
+            Some((d, files)) if *d == dir => files.push(path),
+            _ => by_group.push((dir, vec![path])),
+        }
+    }
+    for (dir, files) in by_group {
+        let sums = digest::read_sums(&dir).map_err(|m| err(dir.join(digest::SUMS_FILE), m))?;
+        for path in &files {
+            let name = path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default();
+            let Some((_, want)) = sums.iter().find(|(n, _)| n == name) else {
+                return Err(err(
+                    path.clone(),
+                    format!(
+                        "is not in {}: a fixture added by hand? Add cases with \
+                         `cargo run -p reference -- add`, or ask a TA",
+                        digest::SUMS_FILE
+                    ),
+                ));
+            };
+            let bytes = std::fs::read(path).map_err(|e| err(path.clone(), e.to_string()))?;
+            if digest::sha256_hex(&bytes) != *want {
+                return Err(err(
+                    path.clone(),
+                    format!(
+                        "has been changed since the fixtures were generated (its SHA-256 is \
+                         not the one in {}): restore it (git checkout fixtures/) or ask a TA",
+                        digest::SUMS_FILE
+                    ),
+                ));
+            }
+        }
+        for (name, _) in &sums {
+            if !files
+                .iter()
+                .any(|p| p.file_name().is_some_and(|n| n == name.as_str()))
+            {
+                return Err(err(
+                    dir.join(name),
+                    format!("is listed in {} but missing", digest::SUMS_FILE),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The fixture as the JSON text the reference writes: objects indented,

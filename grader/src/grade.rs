@@ -117,6 +117,7 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
 
 fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
     let function = f.operation.stage().function();
+    let must_panic = f.expected.returns == Some(Returns::Panic);
     match run {
         Run::TimedOut(limit) => {
             say!(
@@ -127,9 +128,31 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             say!(log, Detail, "an endless loop? a walk around a face or vertex that never gets back to its start?");
         }
+        Run::StuckBeforeCall(limit) => {
+            say!(
+                log,
+                Warn,
+                "{function} was never reached: the program was still starting after {} s",
+                limit.as_secs_f64()
+            );
+            say!(
+                log,
+                Detail,
+                "does your crate run code before main (a static initialiser) that never ends?"
+            );
+        }
         Run::StackOverflow => {
             say!(log, Warn, "{function} overflowed the stack");
             say!(log, Detail, "a function that calls itself without end?");
+        }
+        Run::OutOfMemory(cap) => {
+            say!(
+                log,
+                Warn,
+                "{function} used more than {} of memory",
+                crate::sandbox::format_bytes(*cap)
+            );
+            say!(log, Detail, "a loop that never stops adding elements or growing a Vec? (--memory changes the cap)");
         }
         Run::Signal(sig) => {
             say!(log, Warn, "{function} crashed: {}", signal_name(*sig));
@@ -143,13 +166,48 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             say!(log, Detail, "does your code call std::process::exit?");
         }
-        Run::Done(Outcome::Setup { message }) => {
-            say!(log, Warn, "the case could not be set up: {message}");
+        Run::Garbled(why) => {
+            say!(
+                log,
+                Warn,
+                "{function}'s result could not be read: the grader's channel was written to ({why})"
+            );
             say!(
                 log,
                 Detail,
-                "this is a fixture problem, not your code: tell a TA"
+                "does your code write to file descriptors it did not open?"
             );
+        }
+        Run::TooLarge(bytes) => {
+            say!(
+                log,
+                Warn,
+                "{function} returned a mesh far larger than any right answer ({} MiB of data)",
+                bytes >> 20
+            );
+            say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting.");
+        }
+        Run::Done(Outcome::Panicked { message, location }) if must_panic => {
+            if message.starts_with("not yet implemented") {
+                say!(log, Warn, "{function} panicked: {message}");
+                say!(
+                    log,
+                    Detail,
+                    "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
+                );
+            } else if message.to_lowercase().contains("triangle") {
+                say!(log, Info, "{function} panicked, as it must: {message}");
+            } else {
+                say!(
+                    log,
+                    Warn,
+                    "{function} panicked, but its message does not say a face is not a triangle: {message}"
+                );
+                if let Some(loc) = location {
+                    say!(log, Detail, "at {loc}");
+                }
+                say!(log, Detail, "check first: mesh.first_non_triangle() finds such a face; name it in the panic message");
+            }
         }
         Run::Done(Outcome::Panicked { message, location }) => {
             say!(log, Warn, "{function} panicked: {message}");
@@ -166,17 +224,21 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
             }
         }
+        Run::Done(Outcome::Finished { .. }) if must_panic => {
+            say!(log, Warn, "{function} returned, but the mesh has a face that is not a triangle: it must panic with a message that says so");
+        }
         Run::Done(Outcome::Finished {
             returned,
             before,
             after,
             invalid,
             mesh,
+            unchanged,
         }) => judge_finished(
             f,
             returned,
-            *before,
-            *after,
+            (*before, *after),
+            *unchanged,
             invalid.as_deref(),
             mesh.as_ref(),
             log,
@@ -203,8 +265,8 @@ fn signal_name(sig: i32) -> String {
 fn judge_finished(
     f: &Fixture,
     returned: &Returned,
-    before: Counts,
-    after: Counts,
+    (before, after): (Counts, Counts),
+    unchanged: bool,
     invalid: Option<&str>,
     mesh: Option<&MeshResult>,
     log: &mut Log,
@@ -212,6 +274,19 @@ fn judge_finished(
     let stage = f.operation.stage();
     let function = stage.function();
     if !check_returned(f, returned, log) {
+        return;
+    }
+    if f.expected.returns == Some(Returns::Refused) && !unchanged {
+        say!(
+            log,
+            Warn,
+            "{function} returned None but changed the mesh: a refusal must leave every link as it was"
+        );
+        say!(
+            log,
+            Detail,
+            "check whether to refuse before changing anything"
+        );
         return;
     }
     say!(log, Info, "validate the mesh...");
@@ -264,6 +339,31 @@ fn on_boundary(f: &Fixture) -> bool {
     uses == 1
 }
 
+/// Why the case's edge must be refused, from the input faces.
+fn refusal_reason(f: &Fixture) -> &'static str {
+    let (Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] }) = f.operation else {
+        return "the mesh";
+    };
+    let beside: Vec<&Vec<usize>> = f
+        .input
+        .faces
+        .iter()
+        .filter(|face| {
+            (0..face.len()).any(|i| {
+                let (x, y) = (face[i], face[(i + 1) % face.len()]);
+                (x, y) == (a, b) || (x, y) == (b, a)
+            })
+        })
+        .collect();
+    if beside.iter().any(|face| face.len() != 3) {
+        "an edge beside a face that is not a triangle"
+    } else if on_boundary(f) {
+        "a boundary edge"
+    } else {
+        "an edge it must refuse"
+    }
+}
+
 /// The return value, judged before anything else: it says most about a flip
 /// or split that did the wrong thing altogether.
 fn check_returned(f: &Fixture, returned: &Returned, log: &mut Log) -> bool {
@@ -272,7 +372,12 @@ fn check_returned(f: &Fixture, returned: &Returned, log: &mut Log) -> bool {
         (None, _) => true,
         (Some(Returns::Refused), Returned::Nothing) => true,
         (Some(Returns::Refused), _) => {
-            say!(log, Warn, "{function} changed a boundary edge: it must return None and leave the mesh unchanged");
+            say!(
+                log,
+                Warn,
+                "{function} changed {}: it must return None and leave the mesh unchanged",
+                refusal_reason(f)
+            );
             false
         }
         (Some(Returns::Vertex { .. }), Returned::Nothing) if on_boundary(f) => {
@@ -401,7 +506,13 @@ fn compare_vertices(
         }
         return None;
     }
-    let m = matching::match_vertices(&mesh.positions, &expected.positions, f.tolerance);
+    let m = matching::match_by_neighbourhood(
+        &mesh.positions,
+        &mesh.edges,
+        &expected.positions,
+        &expected.edges,
+        f.tolerance,
+    );
     if !m.is_perfect() {
         say!(
             log,
@@ -553,6 +664,58 @@ fn check_returned_shape(
         }
         _ => {}
     }
+}
+
+/// Says, under a failure, that it showed only on a relabelled input, what
+/// that input looked like, and what to check.
+pub fn note_labelling(
+    report: &mut CaseReport,
+    f: &Fixture,
+    labelling: &crate::relabel::Labelling,
+    index: usize,
+    total: usize,
+    seed: u64,
+) {
+    use crate::relabel::Kind;
+    let end = report.entries.pop();
+    let mut log = Log {
+        entries: std::mem::take(&mut report.entries),
+        passed: false,
+    };
+    let function = f.operation.stage().function();
+    say!(
+        log,
+        Detail,
+        "this case passes on the mesh as built from its faces, and fails on labelling {index} of {} (seed {seed}; replay: cargo run -p grader -- --case {} --seed {seed})",
+        total - 1,
+        f.name
+    );
+    say!(log, Detail, "there, before the call: {}", labelling.what);
+    let warning = log
+        .entries
+        .iter()
+        .find(|e| e.level == Level::Warn)
+        .map(|e| e.text.clone())
+        .unwrap_or_default();
+    let advice = match (labelling.kind, f.operation.stage()) {
+        (Kind::HoleSide, _) => format!(
+            "hint: does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
+        ),
+        (_, Stage::Subdivide) => "hint: your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
+        _ if warning.contains("vertex's halfedge") => format!(
+            "hint: does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
+        ),
+        _ if warning.contains("face's halfedge") || warning.contains("to its face") => format!(
+            "hint: does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
+        ),
+        _ => format!(
+            "hint: does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
+        ),
+    };
+    say!(log, Detail, "{advice}");
+    report.entries = log.entries;
+    report.entries.extend(end);
+    report.passed = false;
 }
 
 /// `loop_subdivide` is built on `split_edge` and `flip_edge`: when those

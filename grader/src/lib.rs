@@ -2,28 +2,39 @@
 //!
 //! Grades the three functions of `crates/meshedit` against the cases in
 //! `fixtures/`, and reports in the lab's words. Each case runs in a child
-//! process (this program started again, see [`runner`]), so a student
-//! function that panics, loops, overflows the stack or aborts fails its case
-//! and the grader carries on.
+//! process that is locked in before any student code runs and never learns
+//! the expected answer: it gets the input mesh over a pipe and sends the
+//! resulting mesh back; the verdict is reached here, in the parent.
 //!
-//! - [`fixture`]: the case format, shared with the reference's generator.
-//! - [`child`]: what runs in the child: the student function, then a
-//!   description of the result.
-//! - [`runner`]: starting the child, the time limit, capturing output.
+//! - [`fixture`]: the case format, shared with the reference's generator;
+//!   [`digest`]: the fixtures' SHA-256 list.
+//! - [`relabel`]: the same input with other ids and pointers, so that
+//!   order-dependent bugs show.
+//! - [`wire`]: what crosses the pipes; [`sandbox`]: the launcher that locks
+//!   the child in; [`runner`]: starting, timing and killing the child.
+//! - [`child`]: the child's side ([`child::serve`]) and the parent's
+//!   reading of its result ([`child::analyze`]).
 //! - [`matching`]: order-independent comparison of vertices and edges.
 //! - [`grade`]: the verdict and messages for one case.
 //! - [`report`]: text, JSON and Gradescope output.
 //!
-//! The binary is `main.rs`: [`main_with`] the student's functions. Tests
-//! call [`main_with`] with other implementations (see `reference/`).
+//! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
+//! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
+//! [`child::serve`] with the student's functions). Tests run other
+//! implementations through the reference's own child program.
 
 pub mod child;
+pub mod digest;
 pub mod fixture;
 pub mod grade;
 pub mod matching;
+pub mod relabel;
 pub mod report;
 pub mod runner;
+pub mod sandbox;
+pub mod wire;
 
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
@@ -31,7 +42,7 @@ use std::time::Duration;
 use clap::{Parser, ValueEnum};
 use halfedge::{EdgeId, Mesh, VertexId};
 
-use crate::fixture::{Fixture, Stage};
+use crate::fixture::{Fixture, Operation, Stage};
 
 /// The three functions being graded.
 #[derive(Clone, Copy)]
@@ -93,13 +104,46 @@ pub struct Cli {
     /// Also write Gradescope's results.json to PATH.
     #[arg(long, value_name = "PATH")]
     pub gradescope: Option<PathBuf>,
-    /// Seconds each case may run before it counts as an endless loop.
+    /// Seconds each case may run, from the call of the function, before it
+    /// counts as an endless loop (0.1 to 3600).
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     pub timeout: f64,
+    /// The most memory a case may use, e.g. 2G or 512M (64M to 64G).
+    #[arg(long, value_name = "SIZE", default_value = "2G", value_parser = parse_memory)]
+    pub memory: u64,
+    /// Seed of the relabelled inputs each case also runs on [default: one
+    /// per case, fixed]; a failure prints the seed that shows it.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
     /// Never colour `[warn]` lines (also off when NO_COLOR is set or output is
     /// not a terminal).
     #[arg(long)]
     pub no_color: bool,
+}
+
+/// `2G`, `512M`, `1.5G` or a number of bytes, between 64 MiB and 64 GiB.
+fn parse_memory(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let (number, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
+        Some((i, _)) => (&t[..i], t[i..].to_ascii_uppercase()),
+        None => (t, String::new()),
+    };
+    let scale: u64 = match unit.trim_end_matches("IB").trim_end_matches('B') {
+        "" => 1,
+        "K" => 1 << 10,
+        "M" => 1 << 20,
+        "G" => 1 << 30,
+        _ => return Err(format!("{text:?}: give a size like 2G or 512M")),
+    };
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|_| format!("{text:?}: give a size like 2G or 512M"))?;
+    let bytes = value * scale as f64;
+    if !(bytes >= (64u64 << 20) as f64 && bytes <= (64u64 << 30) as f64) {
+        return Err(format!("{text:?} is out of range: between 64M and 64G"));
+    }
+    Ok(bytes as u64)
 }
 
 /// The fixtures folder: `--fixtures`, else `./fixtures`, else the one next
@@ -127,56 +171,190 @@ fn usage_error(message: &str) -> ExitCode {
     ExitCode::from(2)
 }
 
-/// The grader's `main`, for any implementation of the three functions.
-/// In a child process (see [`runner`]) it runs one case instead.
-pub fn main_with(imp: Implementation) -> ExitCode {
-    if let Some(code) = run_child_if_asked(&imp) {
-        return code;
+/// The `grader` program: the student's functions live in `grader-child`,
+/// next to this program. Run through cargo (`cargo run -p grader`), it
+/// builds that program first, so it always holds the code as it is now.
+pub fn student_child_program() -> Result<runner::ChildProgram, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
+    let dir = exe.parent().ok_or("this program has no folder")?;
+    let child = dir.join(format!("grader-child{}", std::env::consts::EXE_SUFFIX));
+    if let Some(cargo) = std::env::var_os("CARGO") {
+        let profile = match dir.file_name().and_then(|n| n.to_str()) {
+            Some("debug") | None => "dev".to_string(),
+            Some(name) => name.to_string(),
+        };
+        let target = dir.parent().ok_or("this program's folder has no parent")?;
+        let status = std::process::Command::new(cargo)
+            .args(["build", "--quiet", "-p", "grader", "--bin", "grader-child"])
+            .arg("--profile")
+            .arg(&profile)
+            .arg("--target-dir")
+            .arg(target)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .status()
+            .map_err(|e| format!("cannot run cargo: {e}"))?;
+        if !status.success() {
+            return Err(
+                "your code does not compile: the compiler's messages are above".to_string(),
+            );
+        }
     }
-    let cli = Cli::parse();
-    run(&cli)
+    if !child.is_file() {
+        return Err(format!(
+            "{} is missing: build it with `cargo build -p grader`",
+            child.display()
+        ));
+    }
+    Ok(runner::ChildProgram {
+        exe: child,
+        args: Vec::<OsString>::new(),
+    })
 }
 
-/// In a child process started by [`runner`], runs its one case with `imp`
-/// and returns the exit code; otherwise `None`. A program that grades must
-/// call this before anything else (after choosing `imp` the same way the
-/// parent did).
-pub fn run_child_if_asked(imp: &Implementation) -> Option<ExitCode> {
-    let case = std::env::var_os(runner::CHILD_FIXTURE_ENV)?;
-    let result = std::env::var_os(runner::CHILD_RESULT_ENV)?;
-    let code = child::child_main(Path::new(&case), Path::new(&result), imp);
-    Some(ExitCode::from(code as u8))
+/// How many random labellings each case also runs on, besides the mesh as
+/// built and (for a flip or split) the two chosen ones.
+const RANDOM_LABELLINGS: usize = 2;
+
+/// How many elements the mesh may grow to: generous for any correct answer,
+/// small enough to stop runaway splitting in well under a second.
+fn budget(fixture: &Fixture) -> usize {
+    let e = &fixture.expected;
+    // V + E + F + H of the expected result, bounded by 2E for faces and halfedges.
+    let expected = e.positions.len() + e.edges.len() * 5;
+    (expected * 16).max(10_000)
 }
 
-/// Grades per the command line; the child processes run the cases.
-pub fn run(cli: &Cli) -> ExitCode {
-    if !(cli.timeout > 0.0 && cli.timeout.is_finite()) {
-        return usage_error("--timeout must be a positive number of seconds");
+/// A case ready to run: its fixture and its input mesh.
+struct Case<'a> {
+    fixture: &'a Fixture,
+    input: halfedge::Mesh,
+}
+
+/// Grades one case on every labelling of its input, stopping at the first
+/// that fails. `Err` when the sandbox could not be set up.
+fn grade_case(
+    case: &Case,
+    cli: &Cli,
+    program: &runner::ChildProgram,
+    limits: &sandbox::Limits,
+    protections: &mut Option<String>,
+) -> Result<grade::CaseReport, String> {
+    use runner::{ChildReport, Exit, Run};
+    let f = case.fixture;
+    let seed = cli.seed.unwrap_or_else(|| relabel::default_seed(&f.name));
+    let labellings =
+        relabel::labellings(&case.input, f.edge_in(&case.input), seed, RANDOM_LABELLINGS);
+    let budget = budget(f);
+    let timeout = Duration::from_secs_f64(cli.timeout);
+    let mut first = None;
+    for (i, l) in labellings.iter().enumerate() {
+        let op = match (f.operation, l.edge) {
+            (Operation::Flip { .. }, Some(e)) => wire::Op::Flip(e),
+            (Operation::Split { .. }, Some(e)) => wire::Op::Split(e),
+            (Operation::Subdivide { rounds }, _) => wire::Op::Subdivide {
+                rounds: rounds as u32,
+            },
+            _ => return Err(format!("{}: the case's edge was lost", f.name)),
+        };
+        let request = wire::Request {
+            op,
+            budget: budget as u64,
+            mesh: l.mesh.clone(),
+        };
+        let raw = runner::run_child(
+            program,
+            limits,
+            request.encode(),
+            timeout,
+            budget * 64 + (1 << 20),
+        )
+        .map_err(|e| format!("cannot start a grading process: {e}"))?;
+        if protections.is_none() {
+            *protections = raw.sandbox.clone();
+        }
+        let run = match raw.exit {
+            Exit::Finished(ran) => Run::Done(child::analyze(op, &l.mesh, ran)),
+            Exit::TimedOut(d) => Run::TimedOut(d),
+            Exit::StuckBeforeCall(d) => Run::StuckBeforeCall(d),
+            Exit::StackOverflow => Run::StackOverflow,
+            Exit::OutOfMemory => Run::OutOfMemory(limits.memory),
+            Exit::Signal(s) => Run::Signal(s),
+            Exit::Exited(c) => Run::Exited(c),
+            Exit::Garbled(why) => Run::Garbled(why),
+            Exit::TooLarge(n) => Run::TooLarge(n),
+            Exit::SandboxFailed(why) => {
+                return Err(format!("the grading sandbox could not be set up: {why}"))
+            }
+        };
+        let mut report = grade::judge(
+            f,
+            &ChildReport {
+                run,
+                output: raw.output,
+            },
+        );
+        if !report.passed {
+            if i > 0 {
+                grade::note_labelling(&mut report, f, l, i, labellings.len(), seed);
+            }
+            return Ok(report);
+        }
+        first.get_or_insert(report);
+    }
+    first.ok_or_else(|| format!("{}: no labelling ran", f.name))
+}
+
+/// Grades per the command line, running the cases in `program`.
+pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
+    if !(cli.timeout >= 0.1 && cli.timeout <= 3600.0) {
+        return usage_error(&format!(
+            "--timeout {} is out of range: give a number of seconds from 0.1 to 3600",
+            cli.timeout
+        ));
     }
     let root = fixtures_root(cli);
     let all = match fixture::load_all(&root) {
         Ok(all) => all,
-        Err(e) => return usage_error(&format!("bad fixture: {e}")),
+        Err(e) => return usage_error(&format!("bad fixture: {e}: tell a TA")),
     };
-    let selected: Vec<&Fixture> = all
-        .iter()
-        .filter(|f| cli.case.as_ref().is_none_or(|c| *c == f.name))
-        .filter(|f| cli.stage.is_none_or(|s| s.stage() == f.operation.stage()))
-        .collect();
+    let mut cases = Vec::new();
+    for f in &all {
+        match f.input_mesh() {
+            Ok(input) => cases.push(Case { fixture: f, input }),
+            Err(e) => {
+                return usage_error(&format!(
+                    "bad fixture: {}: {e}: tell a TA",
+                    root.join(f.relative_path()).display()
+                ))
+            }
+        }
+    }
+    cases.retain(|c| {
+        cli.case.as_ref().is_none_or(|n| *n == c.fixture.name)
+            && cli
+                .stage
+                .is_none_or(|s| s.stage() == c.fixture.operation.stage())
+    });
     if let Some(name) = &cli.case {
-        if selected.is_empty() {
+        if cases.is_empty() {
             let names: Vec<&str> = all.iter().map(|f| f.name.as_str()).collect();
+            let stage = if cli.stage.is_some() {
+                " with the --stage given"
+            } else {
+                ""
+            };
             return usage_error(&format!(
-                "no case named {name:?} (with the --stage given); the cases are: {}",
+                "no case named {name:?}{stage}; the cases are: {}",
                 names.join(", ")
             ));
         }
     }
-    if selected.is_empty() {
+    if cases.is_empty() {
         return usage_error(&format!("no cases found in {}", root.display()));
     }
     if cli.list {
-        for f in &selected {
+        for c in &cases {
+            let f = c.fixture;
             println!(
                 "{:<28} {:<7} {}",
                 f.name,
@@ -187,23 +365,30 @@ pub fn run(cli: &Cli) -> ExitCode {
         return ExitCode::SUCCESS;
     }
 
-    let timeout = Duration::from_secs_f64(cli.timeout);
+    runner::become_subreaper();
+    let limits = sandbox::Limits {
+        memory: cli.memory,
+        drop_user: sandbox::runnable_by_others(&program.exe),
+    };
+    let mut protections = None;
     let mut reports = Vec::new();
-    for f in &selected {
-        let path = root.join(f.relative_path());
-        let child = match runner::run_child(&path, &f.name, timeout) {
-            Ok(c) => c,
-            Err(e) => return usage_error(&format!("cannot start a grading process: {e}")),
-        };
-        reports.push(grade::judge(f, &child));
+    for case in &cases {
+        match grade_case(case, cli, program, &limits, &mut protections) {
+            Ok(r) => reports.push(r),
+            Err(e) => return usage_error(&e),
+        }
     }
     grade::note_dependencies(&mut reports);
     // Naming a bonus case is asking for it to count.
     let bonus = cli.bonus || cli.case.is_some();
+    let protections = protections
+        .as_deref()
+        .map(sandbox::describe_status)
+        .unwrap_or_else(|| "protections: unknown (no case reported them)".into());
 
     let output = match cli.format {
-        Format::Text => report::text(&reports, bonus, use_color(cli)),
-        Format::Json => report::json(&reports, bonus),
+        Format::Text => report::text(&reports, bonus, use_color(cli), &protections),
+        Format::Json => report::json(&reports, bonus, &protections),
     };
     print!("{output}");
     if let Some(path) = &cli.gradescope {

@@ -4,6 +4,10 @@
 //! one, within the tolerance, through a hash grid of cells one tolerance
 //! wide (so each lookup checks 27 cells: linear time overall). Edges are
 //! then compared as unordered pairs of matched expected indices.
+//!
+//! Where vertices coincide (an unwelded seam, two shells touching), position
+//! alone cannot tell them apart: [`match_by_neighbourhood`] settles those
+//! by which matched neighbours they have.
 
 use std::collections::{BTreeSet, HashMap};
 
@@ -82,6 +86,93 @@ pub fn match_vertices(student: &[P], expected: &[P], tolerance: f64) -> VertexMa
             Some(best.1)
         })
         .collect();
+    let unmatched_expected = (0..expected.len()).filter(|&i| !taken[i]).collect();
+    VertexMatch {
+        to_expected,
+        unmatched_expected,
+    }
+}
+
+fn adjacency(n: usize, edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
+    let mut adj = vec![Vec::new(); n];
+    for &[a, b] in edges {
+        if a < n && b < n {
+            adj[a].push(b);
+            adj[b].push(a);
+        }
+    }
+    adj
+}
+
+/// Above this many vertices with more than one candidate, neighbourhoods
+/// are not consulted (each settled pair costs a pass over the rest).
+const MAX_AMBIGUOUS: usize = 4000;
+
+/// Matches student vertices to expected ones by position and, where
+/// several expected vertices lie within `tolerance` of a student vertex, by
+/// neighbourhood: each such vertex takes the candidate that shares the most
+/// already-matched neighbours with it. Most-certain pairs are settled first,
+/// so a seam is resolved from its unambiguous surroundings inward.
+pub fn match_by_neighbourhood(
+    student: &[P],
+    student_edges: &[[usize; 2]],
+    expected: &[P],
+    expected_edges: &[[usize; 2]],
+    tolerance: f64,
+) -> VertexMatch {
+    let grid = Grid::new(expected, tolerance);
+    let candidates: Vec<Vec<usize>> = student
+        .iter()
+        .map(|&p| {
+            grid.near(p)
+                .filter(|&i| dist(p, expected[i]) <= tolerance)
+                .collect()
+        })
+        .collect();
+    let ambiguous = candidates.iter().filter(|c| c.len() > 1).count();
+    if ambiguous == 0 || ambiguous > MAX_AMBIGUOUS {
+        return match_vertices(student, expected, tolerance);
+    }
+    let mine = adjacency(student.len(), student_edges);
+    let theirs = adjacency(expected.len(), expected_edges);
+    let mut to_expected: Vec<Option<usize>> = vec![None; student.len()];
+    let mut taken = vec![false; expected.len()];
+    // Unique candidates first.
+    for (s, c) in candidates.iter().enumerate() {
+        if let [x] = c[..] {
+            if !taken[x] {
+                taken[x] = true;
+                to_expected[s] = Some(x);
+            }
+        }
+    }
+    let mut open: Vec<usize> = (0..student.len())
+        .filter(|&s| to_expected[s].is_none() && !candidates[s].is_empty())
+        .collect();
+    while !open.is_empty() {
+        // The pair with the most matched neighbours in common, then the nearest.
+        let mut best: Option<(usize, f64, usize, usize)> = None;
+        for (k, &s) in open.iter().enumerate() {
+            for &x in candidates[s].iter().filter(|&&x| !taken[x]) {
+                let shared = mine[s]
+                    .iter()
+                    .filter(|&&n| to_expected[n].is_some_and(|m| theirs[x].contains(&m)))
+                    .count();
+                let d = dist(student[s], expected[x]);
+                let better =
+                    best.is_none_or(|(bs, bd, _, _)| shared > bs || (shared == bs && d < bd));
+                if better {
+                    best = Some((shared, d, k, x));
+                }
+            }
+        }
+        let Some((_, _, k, x)) = best else {
+            break;
+        };
+        let s = open.swap_remove(k);
+        taken[x] = true;
+        to_expected[s] = Some(x);
+    }
     let unmatched_expected = (0..expected.len()).filter(|&i| !taken[i]).collect();
     VertexMatch {
         to_expected,
@@ -192,6 +283,42 @@ mod tests {
         assert_eq!(d.missing, vec![[1, 2]]);
         assert_eq!(d.extra, vec![[0, 2]]);
         assert!(diff_edges(&got, &[[0, 2], [0, 1]]).is_empty());
+    }
+
+    #[test]
+    fn coincident_vertices_are_told_apart_by_their_neighbours() {
+        // Two triangles touching at the origin through two distinct vertices
+        // (0 and 3), listed so that position order pairs them the wrong way.
+        let expected = [
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0; 3],
+            [-1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+        ];
+        let expected_edges = [[0, 1], [1, 2], [0, 2], [3, 4], [4, 5], [3, 5]];
+        // The student's copy numbers the second triangle's origin first.
+        let student = [
+            [0.0; 3],
+            [-1.0, 0.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let student_edges = [[0, 1], [1, 2], [0, 2], [3, 4], [4, 5], [3, 5]];
+        let greedy = match_vertices(&student, &expected, 1e-5);
+        let by_position = mapped_edges(&student_edges, &greedy);
+        assert!(
+            !diff_edges(&by_position, &expected_edges).is_empty(),
+            "greedy pairs them wrongly"
+        );
+        let m = match_by_neighbourhood(&student, &student_edges, &expected, &expected_edges, 1e-5);
+        assert!(m.is_perfect());
+        assert_eq!(m.to_expected[0], Some(3));
+        assert_eq!(m.to_expected[3], Some(0));
+        assert!(diff_edges(&mapped_edges(&student_edges, &m), &expected_edges).is_empty());
     }
 
     #[test]

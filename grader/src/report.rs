@@ -52,10 +52,12 @@ fn render_case(out: &mut String, case: &CaseReport, color: bool) {
     }
 }
 
-/// The whole text report: lab (and hidden) cases, then bonus cases apart,
-/// a summary per function, and the verdict as the last line.
-pub fn text(cases: &[CaseReport], bonus: bool, color: bool) -> String {
+/// The whole text report: the protections in force, lab (and hidden)
+/// cases, then bonus cases apart, a summary per function, and the verdict
+/// as the last line.
+pub fn text(cases: &[CaseReport], bonus: bool, color: bool, protections: &str) -> String {
     let mut out = String::new();
+    log_line(&mut out, file!(), line!(), false, protections, color);
     let (main, extra): (Vec<_>, Vec<_>) = cases.iter().partition(|c| c.group != Group::Bonus);
     for case in &main {
         render_case(&mut out, case, color);
@@ -122,14 +124,16 @@ pub fn text(cases: &[CaseReport], bonus: bool, color: bool) -> String {
 struct JsonReport<'a> {
     passed: bool,
     bonus_counted: bool,
+    protections: &'a str,
     cases: &'a [CaseReport],
 }
 
 /// The report as JSON, for scripts.
-pub fn json(cases: &[CaseReport], bonus: bool) -> String {
+pub fn json(cases: &[CaseReport], bonus: bool, protections: &str) -> String {
     serde_json::to_string_pretty(&JsonReport {
         passed: all_passed(cases, bonus),
         bonus_counted: bonus,
+        protections,
         cases,
     })
     .expect("reports serialize")

@@ -1,46 +1,211 @@
-//! The parent side: runs each case in a child process (this same program,
-//! started again with the case in its environment), with a time limit, and
-//! captures what the student's code printed.
+//! The parent side of a case: starts the sandboxed child (see
+//! [`crate::sandbox`]), sends it the request, enforces the time limit from
+//! the moment the student's function is called, and kills everything the
+//! child started.
+//!
+//! Three pipes: the request goes in on the child's stdin; frames come back
+//! on its stdout (see [`crate::wire`]); whatever the student's code prints
+//! (stdout and stderr both) arrives on its stderr. No pipe is waited on
+//! past the deadline: the child runs in its own process group, which is
+//! killed at the deadline and after every case, and the grader is a
+//! "child subreaper", so a process that left the group (setsid, double
+//! fork) becomes the grader's child when its parent dies and is found and
+//! killed too.
 
-use std::io::Read;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::ffi::OsString;
+use std::io::{Read, Write};
+use std::path::PathBuf;
+use std::process::{Command, ExitStatus, Stdio};
+use std::sync::mpsc;
 use std::thread;
 use std::time::{Duration, Instant};
 
-use crate::child::Outcome;
+use crate::sandbox::{self, Limits};
+use crate::wire::{self, Frame, Ran};
 
-/// Environment variables that turn a grader process into a case runner.
-pub const CHILD_FIXTURE_ENV: &str = "MESHLAB_GRADER_CASE";
-pub const CHILD_RESULT_ENV: &str = "MESHLAB_GRADER_RESULT";
-
-/// The most of each output stream kept for the report.
+/// The most of the student's output kept for the report.
 const OUTPUT_CAP: usize = 8 * 1024;
 
-/// How a case's child process ended.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Run {
-    /// It wrote an outcome.
-    Done(Outcome),
-    /// Still running at the time limit, and killed.
-    TimedOut(Duration),
-    /// Killed by the stack overflow guard.
-    StackOverflow,
-    /// Ended by a signal (abort, segfault, out of memory...).
-    Signal(i32),
-    /// Exited without writing an outcome (e.g. `std::process::exit`).
-    Exited(Option<i32>),
+/// How long the child may take to be ready to call the student's function
+/// (decode the request, build the mesh), beyond the time limit itself.
+const SETUP_GRACE: Duration = Duration::from_secs(10);
+
+/// How long to wait for pipes to close once the child is dead.
+const CLOSE_GRACE: Duration = Duration::from_millis(500);
+
+/// How to start the child program (the one linked with the functions
+/// being graded). The launcher (this program) starts it.
+#[derive(Clone, Debug)]
+pub struct ChildProgram {
+    pub exe: PathBuf,
+    pub args: Vec<OsString>,
 }
 
-/// A finished child: how it ended and what it printed.
+/// How a case's child process ended.
+#[derive(Clone, Debug)]
+pub enum Exit {
+    /// It sent its result.
+    Finished(Ran),
+    /// Still running at the time limit, and killed.
+    TimedOut(Duration),
+    /// Never reached the student's function within the setup time (code
+    /// that runs before `main`, or a machine far too slow).
+    StuckBeforeCall(Duration),
+    /// Killed by the stack overflow guard.
+    StackOverflow,
+    /// An allocation failed under the memory cap.
+    OutOfMemory,
+    /// Ended by a signal (abort, segfault...).
+    Signal(i32),
+    /// Exited without sending a result (e.g. `std::process::exit`).
+    Exited(Option<i32>),
+    /// What came back on the result channel is not a result.
+    Garbled(String),
+    /// The result was larger than any answer could be.
+    TooLarge(usize),
+    /// The sandbox could not be set up: the grader's problem, not the student's.
+    SandboxFailed(String),
+}
+
+/// A finished child, as the runner saw it: how it ended and what it printed.
+#[derive(Clone, Debug)]
+pub struct RawReport {
+    pub exit: Exit,
+    /// What the student's code printed, cut at 8 KiB.
+    pub output: String,
+    /// The launcher's description of the protections in force.
+    pub sandbox: Option<String>,
+}
+
+/// How a case's run ended, as the judge reads it: the child's result
+/// already analysed in the parent (see [`crate::child::analyze`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Run {
+    Done(crate::child::Outcome),
+    TimedOut(Duration),
+    StuckBeforeCall(Duration),
+    StackOverflow,
+    /// Over the memory cap (bytes).
+    OutOfMemory(u64),
+    Signal(i32),
+    Exited(Option<i32>),
+    /// The result channel held something that is not a result.
+    Garbled(String),
+    /// The result was this many bytes, far more than any answer.
+    TooLarge(usize),
+}
+
+/// What the judge needs of a case's run.
 #[derive(Clone, Debug)]
 pub struct ChildReport {
     pub run: Run,
-    /// stdout then stderr, each cut at 8 KiB.
+    /// What the student's code printed.
     pub output: String,
 }
 
-fn drain(mut stream: impl Read + Send + 'static) -> thread::JoinHandle<(Vec<u8>, bool)> {
+enum Event {
+    Sandbox(String),
+    Started,
+    Result(Vec<u8>),
+    TooLarge(usize),
+    Exited(ExitStatus),
+}
+
+/// Becomes a child subreaper: orphans of our children are reparented to
+/// us, so [`kill_descendants`] can find them. Idempotent.
+pub fn become_subreaper() {
+    // SAFETY: a plain prctl call.
+    unsafe {
+        libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0);
+    }
+}
+
+/// The ids of the processes whose parent is `parent`, from /proc.
+fn children_of(parent: u32) -> Vec<u32> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    dir.filter_map(|e| e.ok()?.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|&pid| {
+            let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+                return false;
+            };
+            // "pid (comm) state ppid ...": comm may hold spaces and parens.
+            let after = stat.rsplit_once(')').map_or("", |(_, rest)| rest);
+            after.split_whitespace().nth(1) == Some(&parent.to_string())
+        })
+        .collect()
+}
+
+/// Kills every process this process is the parent of (orphans reparented
+/// to us by the subreaper flag), and reaps them, until none is left.
+pub fn kill_descendants() {
+    let me = std::process::id();
+    for _ in 0..200 {
+        let found = children_of(me);
+        if found.is_empty() {
+            return;
+        }
+        for pid in found {
+            // SAFETY: plain system calls on a pid that is our child.
+            unsafe {
+                libc::kill(pid as i32, libc::SIGKILL);
+                libc::waitpid(pid as i32, std::ptr::null_mut(), 0);
+            }
+        }
+    }
+}
+
+fn kill_group(pgid: u32) {
+    // SAFETY: a plain system call; the group is the child's own.
+    unsafe {
+        libc::kill(-(pgid as i32), libc::SIGKILL);
+    }
+}
+
+/// Reads the frames as they come, telling the main loop when the
+/// launcher reported and when the clock starts.
+fn watch_frames(
+    mut stream: impl Read + Send + 'static,
+    cap: usize,
+    tx: mpsc::Sender<Event>,
+) -> thread::JoinHandle<()> {
+    thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let mut buf = [0u8; 64 * 1024];
+        let mut reported = false;
+        let mut started = false;
+        while let Ok(n) = stream.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            bytes.extend_from_slice(&buf[..n]);
+            if bytes.len() > cap {
+                let _ = tx.send(Event::TooLarge(bytes.len()));
+                return;
+            }
+            // The launcher's frame ('L', length, text), then the start byte.
+            if !reported && bytes.len() >= 5 && bytes[0] == wire::SANDBOX_TAG {
+                let len = u32::from_le_bytes(bytes[1..5].try_into().expect("4 bytes")) as usize;
+                if let Some(text) = bytes.get(5..5 + len) {
+                    reported = true;
+                    let _ = tx.send(Event::Sandbox(String::from_utf8_lossy(text).into_owned()));
+                }
+            }
+            if reported && !started {
+                let len = u32::from_le_bytes(bytes[1..5].try_into().expect("4 bytes")) as usize;
+                if bytes.get(5 + len) == Some(&wire::STARTED_TAG) {
+                    started = true;
+                    let _ = tx.send(Event::Started);
+                }
+            }
+        }
+        let _ = tx.send(Event::Result(bytes));
+    })
+}
+
+fn drain(mut stream: impl Read + Send + 'static) -> mpsc::Receiver<String> {
+    let (tx, rx) = mpsc::channel();
     thread::spawn(move || {
         let mut kept = Vec::new();
         let mut buf = [0u8; 4096];
@@ -54,103 +219,153 @@ fn drain(mut stream: impl Read + Send + 'static) -> thread::JoinHandle<(Vec<u8>,
             kept.extend_from_slice(&buf[..n.min(room)]);
             cut |= n > room;
         }
-        (kept, cut)
-    })
+        let mut s = String::from_utf8_lossy(&kept).into_owned();
+        if cut {
+            s.push_str("\n[... output cut ...]\n");
+        }
+        let _ = tx.send(s);
+    });
+    rx
 }
 
-fn text((bytes, cut): (Vec<u8>, bool)) -> String {
-    let mut s = String::from_utf8_lossy(&bytes).into_owned();
-    if cut {
-        s.push_str("\n[... output cut ...]\n");
-    }
-    s
-}
-
-/// A fresh file path for one child's outcome.
-fn result_path(case: &str) -> PathBuf {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    static SEQ: AtomicUsize = AtomicUsize::new(0);
-    let n = SEQ.fetch_add(1, Ordering::Relaxed);
-    std::env::temp_dir().join(format!(
-        "meshlab-grader-{}-{n}-{case}.json",
-        std::process::id()
-    ))
-}
-
-/// Runs one case in a child process.
+/// Runs one request in a sandboxed child. `Err` only when no process could
+/// be started at all.
 pub fn run_child(
-    fixture_path: &Path,
-    case: &str,
+    program: &ChildProgram,
+    limits: &Limits,
+    request: Vec<u8>,
     timeout: Duration,
-) -> std::io::Result<ChildReport> {
-    let exe = std::env::current_exe()?;
-    let result = result_path(case);
-    let _ = std::fs::remove_file(&result);
-    let mut child = Command::new(exe)
-        .args(std::env::args_os().skip(1))
-        .env(CHILD_FIXTURE_ENV, fixture_path)
-        .env(CHILD_RESULT_ENV, &result)
-        .env("RUST_BACKTRACE", "0")
-        .stdin(Stdio::null())
+    max_result: usize,
+) -> std::io::Result<RawReport> {
+    use std::os::unix::process::CommandExt;
+    let launcher = std::env::current_exe()?;
+    let mut cmd = Command::new(launcher);
+    cmd.args(sandbox::launcher_args(limits, &program.exe, &program.args))
+        .env_clear()
+        .process_group(0)
+        .stdin(Stdio::piped())
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()?;
-    let out = drain(child.stdout.take().expect("piped"));
-    let err = drain(child.stderr.take().expect("piped"));
+        .stderr(Stdio::piped());
+    if let Some(log) = std::env::var_os("RUST_LOG") {
+        cmd.env("RUST_LOG", log);
+    }
+    let mut child = cmd.spawn()?;
+    let pid = child.id();
+    let (tx, rx) = mpsc::channel();
 
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait()? {
-            break Some(status);
+    let mut stdin = child.stdin.take().expect("piped");
+    thread::spawn(move || {
+        // Fails harmlessly if the child never reads it.
+        let _ = stdin.write_all(&request);
+    });
+    watch_frames(child.stdout.take().expect("piped"), max_result, tx.clone());
+    let output = drain(child.stderr.take().expect("piped"));
+    let waiter_tx = tx;
+    thread::spawn(move || {
+        if let Ok(status) = child.wait() {
+            let _ = waiter_tx.send(Event::Exited(status));
         }
-        if start.elapsed() >= timeout {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        thread::sleep(Duration::from_millis(2));
-    };
-    let stdout = text(out.join().unwrap_or_default());
-    let stderr = text(err.join().unwrap_or_default());
-    let outcome = std::fs::read_to_string(&result)
-        .ok()
-        .and_then(|t| serde_json::from_str::<Outcome>(&t).ok());
-    let _ = std::fs::remove_file(&result);
+    });
 
-    let run = match (status, outcome) {
-        (None, _) => Run::TimedOut(timeout),
-        (Some(_), Some(outcome)) => Run::Done(outcome),
-        (Some(status), None) => {
-            if stderr.contains("has overflowed its stack") {
-                Run::StackOverflow
-            } else if let Some(sig) = signal_of(&status) {
-                Run::Signal(sig)
-            } else {
-                Run::Exited(status.code())
+    let begun = Instant::now();
+    let mut sandbox_status = None;
+    let mut started: Option<Instant> = None;
+    let mut status: Option<ExitStatus> = None;
+    let mut result: Option<Vec<u8>> = None;
+    let mut limit_hit: Option<Exit> = None;
+    loop {
+        if status.is_some() && result.is_some() {
+            break;
+        }
+        let deadline = match (limit_hit.is_some() || status.is_some(), started) {
+            // Dead or killed: only wait for the pipes to close.
+            (true, _) => Instant::now() + CLOSE_GRACE,
+            (false, Some(t)) => t + timeout,
+            (false, None) => begun + timeout + SETUP_GRACE,
+        };
+        match rx.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
+            Ok(Event::Sandbox(s)) => sandbox_status = Some(s),
+            Ok(Event::Started) => started = Some(Instant::now()),
+            Ok(Event::Result(bytes)) => result = Some(bytes),
+            Ok(Event::TooLarge(n)) => {
+                kill_group(pid);
+                limit_hit = Some(Exit::TooLarge(n));
+                result = Some(Vec::new());
+            }
+            Ok(Event::Exited(s)) => {
+                status = Some(s);
+                // Whatever it started dies with it, and lets go of the pipes.
+                kill_group(pid);
+                kill_descendants();
+            }
+            Err(_) if status.is_some() || limit_hit.is_some() => break,
+            Err(_) => {
+                kill_group(pid);
+                kill_descendants();
+                limit_hit = Some(match started {
+                    Some(_) => Exit::TimedOut(timeout),
+                    None => Exit::StuckBeforeCall(timeout + SETUP_GRACE),
+                });
             }
         }
-    };
-    // The overflow notice is ours to report, not the student's output.
-    let stderr: String = stderr
-        .lines()
-        .filter(|l| {
-            !l.contains("has overflowed its stack") && !l.starts_with("fatal runtime error")
-        })
-        .map(|l| format!("{l}\n"))
-        .collect();
-    Ok(ChildReport {
-        run,
-        output: format!("{stdout}{stderr}"),
+    }
+    kill_group(pid);
+    kill_descendants();
+    let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
+    let exit = classify(limit_hit, status, result, &output);
+    Ok(RawReport {
+        exit,
+        output: strip_notices(&output),
+        sandbox: sandbox_status,
     })
 }
 
-#[cfg(unix)]
-fn signal_of(status: &std::process::ExitStatus) -> Option<i32> {
+fn classify(
+    limit_hit: Option<Exit>,
+    status: Option<ExitStatus>,
+    result: Option<Vec<u8>>,
+    output: &str,
+) -> Exit {
     use std::os::unix::process::ExitStatusExt;
-    status.signal()
+    if let Some(exit) = limit_hit {
+        return exit;
+    }
+    let Some(status) = status else {
+        return Exit::Exited(None);
+    };
+    if status.code() == Some(sandbox::LAUNCH_FAILED) && output.contains("grader sandbox:") {
+        return Exit::SandboxFailed(output.trim().to_string());
+    }
+    let frames = result.as_deref().map(wire::decode_frames);
+    match frames {
+        Some(Ok(frames)) => {
+            if let Some(Frame::Result(ran)) = frames.into_iter().last() {
+                return Exit::Finished(ran);
+            }
+        }
+        Some(Err(e)) if status.success() => return Exit::Garbled(e.to_string()),
+        _ => {}
+    }
+    if output.contains("has overflowed its stack") {
+        Exit::StackOverflow
+    } else if output.contains("memory allocation of ") && output.contains(" failed") {
+        Exit::OutOfMemory
+    } else if let Some(sig) = status.signal() {
+        Exit::Signal(sig)
+    } else {
+        Exit::Exited(status.code())
+    }
 }
 
-#[cfg(not(unix))]
-fn signal_of(_: &std::process::ExitStatus) -> Option<i32> {
-    None
+/// Drops the runtime's own notices (stack overflow, failed allocation),
+/// which the grader reports in its own words.
+fn strip_notices(output: &str) -> String {
+    output
+        .lines()
+        .filter(|l| {
+            let oom = l.starts_with("memory allocation of ") && l.ends_with(" failed");
+            !(oom || l.contains("has overflowed its stack") || l.starts_with("fatal runtime error"))
+        })
+        .map(|l| format!("{l}\n"))
+        .collect()
 }

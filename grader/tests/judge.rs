@@ -97,11 +97,13 @@ fn finished(
 ) -> CaseReport {
     let child = ChildReport {
         run: Run::Done(Outcome::Finished {
-            returned,
             before: input_counts(f),
             after,
             invalid: invalid.map(str::to_string),
             mesh,
+            // A refusal that returns None is taken to have left the mesh alone.
+            unchanged: returned == Returned::Nothing,
+            returned,
         }),
         output: String::new(),
     };
@@ -141,7 +143,11 @@ fn assert_detail(r: &CaseReport, needle: &str) {
 fn every_committed_fixture_compared_with_itself_passes() {
     let all = fixture::load_all(&fixtures_dir()).unwrap();
     assert!(all.len() >= 28, "the lab and bonus cases at least");
-    for f in &all {
+    // Subdivision of a mesh that is not all triangles must panic: judged apart.
+    for f in all
+        .iter()
+        .filter(|f| f.expected.returns != Some(Returns::Panic))
+    {
         let (returned, after, mesh) = perfect(f);
         let r = finished(f, returned, after, None, Some(mesh));
         assert!(r.passed, "{}: {:#?}", f.name, r.entries);
@@ -357,14 +363,25 @@ fn faults() {
     assert_detail(&r, "at crates/meshedit/src/lib.rs:9:5");
     assert_detail(&r, "still a todo!() stub");
     assert_eq!(r.output, "debug print\n", "the student's output is kept");
-    let r = faulted(
-        &f,
-        Run::Done(Outcome::Setup {
-            message: "input mesh: boom".into(),
-        }),
+    let r = faulted(&f, Run::OutOfMemory(2 << 30));
+    assert_fails_with(&r, "loop_subdivide used more than 2 GiB of memory");
+    assert_detail(&r, "--memory changes the cap");
+    let r = faulted(&f, Run::Garbled("unknown frame 7".into()));
+    assert_fails_with(
+        &r,
+        "loop_subdivide's result could not be read: the grader's channel was written to (unknown frame 7)",
     );
-    assert_fails_with(&r, "the case could not be set up: input mesh: boom");
-    assert_detail(&r, "not your code");
+    let r = faulted(&f, Run::TooLarge(300 << 20));
+    assert_fails_with(
+        &r,
+        "loop_subdivide returned a mesh far larger than any right answer (300 MiB of data)",
+    );
+    let r = faulted(&f, Run::StuckBeforeCall(Duration::from_secs(20)));
+    assert_fails_with(
+        &r,
+        "loop_subdivide was never reached: the program was still starting after 20 s",
+    );
+    assert_detail(&r, "before main");
 }
 
 #[test]
@@ -508,13 +525,29 @@ fn fixture_files_round_trip_and_bad_ones_are_named() {
     let bad = |edit: &dyn Fn(&str) -> String| {
         Fixture::from_json(&edit(&text), p).unwrap_err().to_string()
     };
-    assert!(bad(&|t| t.replacen("\"schema\": 1", "\"schema\": 2", 1))
-        .starts_with("x/cone.json: schema 2, but this grader reads schema 1"));
-    assert!(bad(&|t| t.replacen("\"schema\": 1,", "", 1)).contains("no \"schema\" number"));
-    assert!(
-        bad(&|t| t.replacen("\"tolerance\": 0.00001", "\"tolerance\": 0", 1))
-            .contains("tolerance 0 is not a positive number")
-    );
+    assert!(bad(&|t| t.replacen("\"schema\": 2", "\"schema\": 3", 1))
+        .starts_with("x/cone.json: schema 3, but this grader reads schema 2"));
+    assert!(bad(&|t| t.replacen("\"schema\": 2,", "", 1)).contains("no \"schema\" number"));
+    // The cone is about 3 units across: tolerances from 3e-12 to 3e-2.
+    for absurd in ["0", "1e-20", "1e300", "0.5"] {
+        let e = bad(&|t| {
+            t.replacen(
+                "\"tolerance\": 0.00001",
+                &format!("\"tolerance\": {absurd}"),
+                1,
+            )
+        });
+        assert!(
+            e.contains("is out of range: it must be between"),
+            "{absurd}: {e}"
+        );
+    }
+    assert!(bad(&|t| t.replacen(
+        "\"edges\": [\n      [0, 7],\n      [0, 9]",
+        "\"edges\": [\n      [0, 9],\n      [0, 7]",
+        1
+    ))
+    .contains("are not sorted and distinct"));
     assert!(bad(&|t| t.replacen("\"rounds\": 1", "\"rounds\": 0", 1))
         .contains("0 rounds tests nothing"));
     assert!(bad(&|t| t.replacen("\"object\": \"cone\",", "", 1))
@@ -556,14 +589,24 @@ fn a_fixture_in_the_wrong_folder_is_named() {
 fn warnings_are_red_only_with_colour_and_the_verdict_is_last() {
     let f = load("lab/cube-subdivide-1.json");
     let failed = faulted(&f, Run::StackOverflow);
-    let plain = grader::report::text(std::slice::from_ref(&failed), false, false);
+    let plain = grader::report::text(
+        std::slice::from_ref(&failed),
+        false,
+        false,
+        "protections: test",
+    );
     assert!(!plain.contains('\u{1b}'), "{plain}");
     assert!(plain.trim_end().ends_with("[warn] test failed"), "{plain}");
     assert!(
         plain.contains("    your code printed:\n    | debug print\n"),
         "{plain}"
     );
-    let red = grader::report::text(std::slice::from_ref(&failed), false, true);
+    let red = grader::report::text(
+        std::slice::from_ref(&failed),
+        false,
+        true,
+        "protections: test",
+    );
     assert!(
         red.contains(" \u{1b}[31m[warn] test failed\u{1b}[0m\n"),
         "{red}"
@@ -575,7 +618,7 @@ fn warnings_are_red_only_with_colour_and_the_verdict_is_last() {
 
     let (returned, after, mesh) = perfect(&f);
     let passed = finished(&f, returned, after, None, Some(mesh));
-    let text = grader::report::text(&[passed], false, true);
+    let text = grader::report::text(&[passed], false, true, "protections: test");
     assert!(
         text.trim_end()
             .ends_with("[info] all tests passed, congratulations!"),

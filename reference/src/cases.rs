@@ -188,6 +188,26 @@ pub fn builtin(weights: Weights) -> Vec<Case> {
         weights,
     ));
 
+    contract_cases(&mut out, weights);
+    let touching = two_octahedra();
+    standard(
+        &mut out,
+        "two-octahedra",
+        "two octahedra touching",
+        Group::Hidden,
+        &touching,
+        &[1],
+        weights,
+    );
+    out.push(case(
+        "seam-tube-subdivide-1",
+        "tube with an unwelded seam",
+        Group::Bonus,
+        &seam_tube(6, 2),
+        Operation::Subdivide { rounds: 1 },
+        weights,
+    ));
+
     let hidden: [(&str, &str, Mesh, &[usize]); 6] = [
         ("icosphere", "icosphere", shapes::icosphere(1), &[1, 2]),
         ("cube-2x2", "cube (2x2 sides)", shapes::cube(2), &[1]),
@@ -223,6 +243,163 @@ pub fn builtin(weights: Weights) -> Vec<Case> {
         );
     }
     out
+}
+
+fn mesh_of(positions: &[[f64; 3]], faces: &[&[usize]]) -> Mesh {
+    let positions: Vec<halfedge::DVec3> = positions
+        .iter()
+        .map(|p| halfedge::DVec3::from_array(*p))
+        .collect();
+    let faces: Vec<Vec<usize>> = faces.iter().map(|f| f.to_vec()).collect();
+    Mesh::from_faces(&positions, &faces).expect("a built-in mesh is valid")
+}
+
+/// A box whose six faces are quads.
+fn quad_box() -> Mesh {
+    let mut ps = Vec::new();
+    for i in 0..8 {
+        ps.push([(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64]);
+    }
+    mesh_of(
+        &ps,
+        &[
+            &[0, 2, 3, 1],
+            &[4, 5, 7, 6],
+            &[0, 1, 5, 4],
+            &[2, 6, 7, 3],
+            &[0, 4, 6, 2],
+            &[1, 3, 7, 5],
+        ],
+    )
+}
+
+/// A pyramid on a pentagon: five triangles and the pentagon.
+fn pentagon_pyramid() -> Mesh {
+    let mut ps: Vec<[f64; 3]> = (0..5)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 5.0;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    ps.push([0.0, 0.0, 1.0]);
+    mesh_of(
+        &ps,
+        &[
+            &[0, 1, 5],
+            &[1, 2, 5],
+            &[2, 3, 5],
+            &[3, 4, 5],
+            &[4, 0, 5],
+            &[4, 3, 2, 1, 0],
+        ],
+    )
+}
+
+/// The contract's refusals: flip and split beside a face that is not a
+/// triangle return `None` and change nothing; subdivision panics.
+fn contract_cases(out: &mut Vec<Case>, weights: Weights) {
+    let quads = quad_box();
+    let pyramid = pentagon_pyramid();
+    let object = "box of quads";
+    out.push(case(
+        "quad-box-flip",
+        object,
+        Group::Lab,
+        &quads,
+        Operation::Flip { edge: [0, 1] },
+        weights,
+    ));
+    out.push(case(
+        "quad-box-split",
+        object,
+        Group::Lab,
+        &quads,
+        Operation::Split { edge: [0, 1] },
+        weights,
+    ));
+    out.push(case(
+        "quad-box-subdivide-1",
+        object,
+        Group::Lab,
+        &quads,
+        Operation::Subdivide { rounds: 1 },
+        weights,
+    ));
+    let object = "pentagonal pyramid";
+    out.push(case(
+        "pentagon-pyramid-flip",
+        object,
+        Group::Lab,
+        &pyramid,
+        Operation::Flip { edge: [1, 0] },
+        weights,
+    ));
+    out.push(case(
+        "pentagon-pyramid-split",
+        object,
+        Group::Lab,
+        &pyramid,
+        Operation::Split { edge: [2, 1] },
+        weights,
+    ));
+}
+
+/// Two octahedra touching at a point through two distinct vertices at the
+/// same place: matching by position alone cannot tell those apart.
+fn two_octahedra() -> Mesh {
+    let octa = |cx: f64| -> Vec<[f64; 3]> {
+        vec![
+            [cx + 1.0, 0.0, 0.0],
+            [cx - 1.0, 0.0, 0.0],
+            [cx, 1.0, 0.0],
+            [cx, -1.0, 0.0],
+            [cx, 0.0, 1.0],
+            [cx, 0.0, -1.0],
+        ]
+    };
+    // The first's vertex 0 (at x = 1) and the second's vertex 1 coincide.
+    let mut ps = octa(0.0);
+    ps.extend(octa(2.0));
+    let faces: [[usize; 3]; 8] = [
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    let all: Vec<Vec<usize>> = faces
+        .iter()
+        .map(|f| f.to_vec())
+        .chain(faces.iter().map(|f| f.iter().map(|i| i + 6).collect()))
+        .collect();
+    let refs: Vec<&[usize]> = all.iter().map(|f| f.as_slice()).collect();
+    mesh_of(&ps, &refs)
+}
+
+/// An open tube of `segments` sides and `rings` rows, cut open along one
+/// line: the seam's vertices are doubled, one copy for each side.
+fn seam_tube(segments: usize, rings: usize) -> Mesh {
+    let columns = segments + 1; // the last column sits on the first
+    let mut ps = Vec::new();
+    for r in 0..=rings {
+        for c in 0..columns {
+            let a = std::f64::consts::TAU * (c % segments) as f64 / segments as f64;
+            ps.push([a.cos(), a.sin(), r as f64 / rings as f64]);
+        }
+    }
+    let at = |r: usize, c: usize| r * columns + c;
+    let mut faces = Vec::new();
+    for r in 0..rings {
+        for c in 0..segments {
+            faces.push(vec![at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
+            faces.push(vec![at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
+        }
+    }
+    let refs: Vec<&[usize]> = faces.iter().map(|f| f.as_slice()).collect();
+    mesh_of(&ps, &refs)
 }
 
 fn rule(w: Weights) -> WeightRule {
@@ -280,10 +457,9 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
                 None => Some(Returns::Refused),
             }
         }
+        // Not a triangle mesh: the contract says subdivision panics.
+        Operation::Subdivide { .. } if !input.is_triangle_mesh() => Some(Returns::Panic),
         Operation::Subdivide { rounds } => {
-            if !input.is_triangle_mesh() {
-                return Err("subdivision needs a triangle mesh".into());
-            }
             for _ in 0..rounds {
                 solution::loop_subdivide_with(&mut mesh, case.weights);
             }
@@ -298,7 +474,7 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
         edges: sorted_edges(&mesh),
         mistakes: Vec::new(),
     };
-    if let Operation::Subdivide { rounds: 1 } = case.operation {
+    if let (Operation::Subdivide { rounds: 1 }, None) = (case.operation, expected.returns) {
         let closed = input.edge_ids().all(|e| !input.edge_on_boundary(e));
         if closed && case.weights == Weights::Warren {
             expected.mistakes = mistakes(&input, &expected, case.tolerance);
@@ -373,12 +549,41 @@ pub fn added_cases(root: &Path, builtin: &[Case]) -> Result<Vec<Case>, String> {
     Ok(out)
 }
 
-/// Every fixture file's path (relative to the root) and text.
+/// Rewrites each group folder's `SHA256SUMS` from the fixture files in it
+/// (after `add` wrote a new one).
+pub fn write_sums(root: &Path) -> Result<(), String> {
+    let files = fixture::fixture_files(root).map_err(|e| e.to_string())?;
+    for group in Group::ALL {
+        let listed: Vec<(String, Vec<u8>)> = files
+            .iter()
+            .filter(|(g, _)| *g == group)
+            .map(|(_, p)| {
+                let bytes = std::fs::read(p).map_err(|e| format!("{}: {e}", p.display()))?;
+                Ok((
+                    p.file_name()
+                        .expect("a file")
+                        .to_string_lossy()
+                        .into_owned(),
+                    bytes,
+                ))
+            })
+            .collect::<Result<_, String>>()?;
+        if !listed.is_empty() {
+            let path = root.join(group.name()).join(grader::digest::SUMS_FILE);
+            std::fs::write(&path, grader::digest::sums_text(&listed))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
+/// Every fixture file's path (relative to the root) and text, and each
+/// group folder's `SHA256SUMS` of them.
 pub fn render_all(root: &Path, weights: Weights) -> Result<Vec<(PathBuf, String)>, String> {
     let builtin = builtin(weights);
     let added = added_cases(root, &builtin)?;
     let mut names = std::collections::HashSet::new();
-    builtin
+    let mut files = builtin
         .iter()
         .chain(&added)
         .map(|c| {
@@ -388,5 +593,28 @@ pub fn render_all(root: &Path, weights: Weights) -> Result<Vec<(PathBuf, String)
             let f = make_fixture(c).map_err(|e| format!("case {}: {e}", c.name))?;
             Ok((f.relative_path(), fixture::to_json_text(&f)))
         })
-        .collect()
+        .collect::<Result<Vec<_>, String>>()?;
+    let mut sums = Vec::new();
+    for group in Group::ALL {
+        let listed: Vec<(String, Vec<u8>)> = files
+            .iter()
+            .filter(|(p, _)| p.starts_with(group.name()))
+            .map(|(p, text)| {
+                let name = p
+                    .file_name()
+                    .expect("a file")
+                    .to_string_lossy()
+                    .into_owned();
+                (name, text.clone().into_bytes())
+            })
+            .collect();
+        if !listed.is_empty() {
+            sums.push((
+                Path::new(group.name()).join(grader::digest::SUMS_FILE),
+                grader::digest::sums_text(&listed),
+            ));
+        }
+    }
+    files.extend(sums);
+    Ok(files)
 }

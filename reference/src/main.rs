@@ -149,6 +149,13 @@ enum Command {
     Gradescope { dir: PathBuf },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
+    /// The child side of `grade`: runs one case sent on standard input
+    /// (started by the grader, locked in; of no use by hand).
+    #[command(hide = true)]
+    ServeCase {
+        #[arg(long = "implementation")]
+        implementation: String,
+    },
     /// Print timings: a full grade of the reference (child processes and
     /// all) and the reference's subdivision of growing meshes.
     Bench {
@@ -164,6 +171,7 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    grader::sandbox::launch_if_asked();
     let cli = Cli::parse();
     match run(cli.command) {
         Ok(code) => code,
@@ -208,6 +216,16 @@ fn write_obj(mesh: &Mesh, path: &Path) -> Result<(), String> {
         .map_err(|e| format!("the reference broke the mesh: {e}"))?;
     mesh.write_obj_file(path)
         .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn find_implementation(name: &str) -> Result<mutants::Entry, String> {
+    mutants::find(name).ok_or_else(|| {
+        let names: Vec<&str> = mutants::catalogue().iter().map(|e| e.name).collect();
+        format!(
+            "no implementation {name:?}; there are: {}",
+            names.join(", ")
+        )
+    })
 }
 
 fn run(command: Command) -> Result<ExitCode, String> {
@@ -296,6 +314,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 .map_err(|e| e.to_string())?;
             std::fs::write(&path, fixture::to_json_text(&f))
                 .map_err(|e| format!("{}: {e}", path.display()))?;
+            cases::write_sums(&root)?;
             println!("wrote {}", path.display());
             Ok(ExitCode::SUCCESS)
         }
@@ -373,17 +392,21 @@ fn run(command: Command) -> Result<ExitCode, String> {
             implementation,
             grader: cli,
         } => {
-            let entry = mutants::find(&implementation).ok_or_else(|| {
-                let names: Vec<&str> = mutants::catalogue().iter().map(|e| e.name).collect();
-                format!(
-                    "no implementation {implementation:?}; there are: {}",
-                    names.join(", ")
-                )
-            })?;
-            if let Some(code) = grader::run_child_if_asked(&entry.imp) {
-                return Ok(code);
-            }
-            Ok(grader::run(&cli))
+            find_implementation(&implementation)?;
+            // The child is this program again, serving the implementation.
+            let program = grader::runner::ChildProgram {
+                exe: std::env::current_exe().map_err(|e| e.to_string())?,
+                args: vec![
+                    "serve-case".into(),
+                    "--implementation".into(),
+                    implementation.into(),
+                ],
+            };
+            Ok(grader::run(&cli, &program))
+        }
+        Command::ServeCase { implementation } => {
+            let entry = find_implementation(&implementation)?;
+            grader::child::serve(&entry.imp)
         }
         Command::Bench { runs } => bench(runs.max(1)),
         Command::Gradescope { dir } => {

@@ -207,6 +207,9 @@ fn steps(
     split: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
     flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
 ) {
+    if let Some(f) = mesh.first_non_triangle() {
+        panic!("loop_subdivide needs triangles, but {f} is not a triangle");
+    }
     solution::vertex_points(mesh, weights);
     solution::edge_points(mesh);
     split_old(mesh, split);

@@ -1,0 +1,10 @@
+//! The grader's child program: runs one case on your functions. The grader
+//! starts it, locked in; it is of no use on its own.
+
+fn main() {
+    grader::child::serve(&grader::Implementation {
+        flip_edge: meshedit::flip_edge,
+        split_edge: meshedit::split_edge,
+        loop_subdivide: meshedit::loop_subdivide,
+    })
+}

@@ -1,0 +1,456 @@
+//! What crosses the pipes between the grader and a case's child process.
+//!
+//! The parent sends a [`Request`]: the input mesh (every record, exactly as
+//! labelled), the operation and the growth budget. The child sends back
+//! frames: [`Frame::Sandbox`] (written by the launcher before the student's
+//! program starts), [`Frame::Started`] (just before the student's function
+//! is called: the time limit starts there), then one [`Frame::Result`].
+//!
+//! The encoding is plain little-endian binary, floats as their bits, so a
+//! NaN or a negative zero comes back exactly as the student left it. The
+//! decoder checks every length against the bytes present: a corrupted or
+//! forged stream is an error, never a panic or a huge allocation.
+
+use halfedge::{DVec3, Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Mesh, Vertex, VertexId};
+
+/// The operation a child runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    Flip(EdgeId),
+    Split(EdgeId),
+    Subdivide { rounds: u32 },
+}
+
+/// Everything a child gets: nothing about the expected result.
+#[derive(Clone, Debug)]
+pub struct Request {
+    pub op: Op,
+    /// The most elements the mesh may grow to (see `halfedge`'s growth budget).
+    pub budget: u64,
+    pub mesh: Mesh,
+}
+
+/// What a student function returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Answer {
+    /// `loop_subdivide` returns nothing.
+    Unit,
+    /// `None`.
+    Nothing,
+    Edge(EdgeId),
+    Vertex(VertexId),
+}
+
+/// How the student's function ended, as the child saw it.
+#[derive(Clone, Debug)]
+pub enum Ran {
+    Returned {
+        answer: Answer,
+        mesh: Mesh,
+    },
+    Panicked {
+        message: String,
+        location: Option<String>,
+    },
+}
+
+/// One message from the child process.
+#[derive(Clone, Debug)]
+pub enum Frame {
+    /// The launcher's report of the protections it put in place.
+    Sandbox(String),
+    /// The student's function is about to be called.
+    Started,
+    Result(Ran),
+}
+
+const REQUEST_MAGIC: &[u8; 4] = b"MLQ1";
+const TAG_SANDBOX: u8 = b'L';
+const TAG_STARTED: u8 = b'S';
+const TAG_RESULT: u8 = b'R';
+
+/// Why bytes could not be decoded.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WireError(pub String);
+
+impl std::fmt::Display for WireError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+fn put_u32(out: &mut Vec<u8>, x: u32) {
+    out.extend_from_slice(&x.to_le_bytes());
+}
+fn put_u64(out: &mut Vec<u8>, x: u64) {
+    out.extend_from_slice(&x.to_le_bytes());
+}
+fn put_vec3(out: &mut Vec<u8>, v: DVec3) {
+    for x in v.to_array() {
+        put_u64(out, x.to_bits());
+    }
+}
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    put_u32(out, s.len().min(u32::MAX as usize) as u32);
+    out.extend_from_slice(&s.as_bytes()[..s.len().min(u32::MAX as usize)]);
+}
+
+fn put_mesh(out: &mut Vec<u8>, mesh: &Mesh) {
+    let (vs, es, fs, hs) = mesh.records();
+    for n in [vs.len(), es.len(), fs.len(), hs.len()] {
+        put_u32(out, n as u32);
+    }
+    for v in vs {
+        put_vec3(out, v.pos);
+        put_vec3(out, v.new_pos);
+        out.push(v.is_new as u8);
+        put_u32(out, v.halfedge.0);
+    }
+    for e in es {
+        put_u32(out, e.halfedge.0);
+        put_vec3(out, e.new_pos);
+        out.push(e.is_new as u8);
+    }
+    for f in fs {
+        put_u32(out, f.halfedge.0);
+        out.push(f.is_boundary as u8);
+    }
+    for h in hs {
+        for x in [h.twin.0, h.next.0, h.vertex.0, h.edge.0, h.face.0] {
+            put_u32(out, x);
+        }
+    }
+}
+
+/// Bytes per record, to check a count against what is left before
+/// allocating for it.
+const VERTEX_BYTES: usize = 24 + 24 + 1 + 4;
+const EDGE_BYTES: usize = 4 + 24 + 1;
+const FACE_BYTES: usize = 4 + 1;
+const HALFEDGE_BYTES: usize = 20;
+
+struct Reader<'a> {
+    bytes: &'a [u8],
+}
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], WireError> {
+        if self.bytes.len() < n {
+            return Err(WireError(format!(
+                "cut short: {n} more bytes expected, {} left",
+                self.bytes.len()
+            )));
+        }
+        let (head, rest) = self.bytes.split_at(n);
+        self.bytes = rest;
+        Ok(head)
+    }
+    fn u8(&mut self) -> Result<u8, WireError> {
+        Ok(self.take(1)?[0])
+    }
+    fn bool(&mut self) -> Result<bool, WireError> {
+        match self.u8()? {
+            0 => Ok(false),
+            1 => Ok(true),
+            x => Err(WireError(format!("{x} is not a boolean"))),
+        }
+    }
+    fn u32(&mut self) -> Result<u32, WireError> {
+        Ok(u32::from_le_bytes(
+            self.take(4)?.try_into().expect("4 bytes"),
+        ))
+    }
+    fn u64(&mut self) -> Result<u64, WireError> {
+        Ok(u64::from_le_bytes(
+            self.take(8)?.try_into().expect("8 bytes"),
+        ))
+    }
+    fn vec3(&mut self) -> Result<DVec3, WireError> {
+        Ok(DVec3::new(
+            f64::from_bits(self.u64()?),
+            f64::from_bits(self.u64()?),
+            f64::from_bits(self.u64()?),
+        ))
+    }
+    fn str(&mut self) -> Result<String, WireError> {
+        let n = self.u32()? as usize;
+        Ok(String::from_utf8_lossy(self.take(n)?).into_owned())
+    }
+    fn count(&mut self, record_bytes: usize) -> Result<usize, WireError> {
+        let n = self.u32()? as usize;
+        // Counts are checked against the bytes present before allocating.
+        if n.saturating_mul(record_bytes) > self.bytes.len() {
+            return Err(WireError(format!(
+                "claims {n} records but only {} bytes follow",
+                self.bytes.len()
+            )));
+        }
+        Ok(n)
+    }
+    fn mesh(&mut self) -> Result<Mesh, WireError> {
+        let nv = self.count(VERTEX_BYTES)?;
+        let ne = self.count(EDGE_BYTES)?;
+        let nf = self.count(FACE_BYTES)?;
+        let nh = self.count(HALFEDGE_BYTES)?;
+        let needed = nv * VERTEX_BYTES + ne * EDGE_BYTES + nf * FACE_BYTES + nh * HALFEDGE_BYTES;
+        if needed > self.bytes.len() {
+            return Err(WireError("the mesh is cut short".into()));
+        }
+        let mut vertices = Vec::with_capacity(nv);
+        for _ in 0..nv {
+            vertices.push(Vertex {
+                pos: self.vec3()?,
+                new_pos: self.vec3()?,
+                is_new: self.bool()?,
+                halfedge: HalfedgeId(self.u32()?),
+            });
+        }
+        let mut edges = Vec::with_capacity(ne);
+        for _ in 0..ne {
+            edges.push(Edge {
+                halfedge: HalfedgeId(self.u32()?),
+                new_pos: self.vec3()?,
+                is_new: self.bool()?,
+            });
+        }
+        let mut faces = Vec::with_capacity(nf);
+        for _ in 0..nf {
+            faces.push(Face {
+                halfedge: HalfedgeId(self.u32()?),
+                is_boundary: self.bool()?,
+            });
+        }
+        let mut halfedges = Vec::with_capacity(nh);
+        for _ in 0..nh {
+            halfedges.push(Halfedge {
+                twin: HalfedgeId(self.u32()?),
+                next: HalfedgeId(self.u32()?),
+                vertex: VertexId(self.u32()?),
+                edge: EdgeId(self.u32()?),
+                face: FaceId(self.u32()?),
+            });
+        }
+        Ok(Mesh::from_records(vertices, edges, faces, halfedges))
+    }
+    fn end(&self) -> Result<(), WireError> {
+        if self.bytes.is_empty() {
+            Ok(())
+        } else {
+            Err(WireError(format!(
+                "{} unexpected bytes at the end",
+                self.bytes.len()
+            )))
+        }
+    }
+}
+
+impl Request {
+    pub fn encode(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        out.extend_from_slice(REQUEST_MAGIC);
+        match self.op {
+            Op::Flip(e) => {
+                out.push(0);
+                put_u32(&mut out, e.0);
+            }
+            Op::Split(e) => {
+                out.push(1);
+                put_u32(&mut out, e.0);
+            }
+            Op::Subdivide { rounds } => {
+                out.push(2);
+                put_u32(&mut out, rounds);
+            }
+        }
+        put_u64(&mut out, self.budget);
+        put_mesh(&mut out, &self.mesh);
+        out
+    }
+
+    pub fn decode(bytes: &[u8]) -> Result<Request, WireError> {
+        let mut r = Reader { bytes };
+        if r.take(4)? != REQUEST_MAGIC {
+            return Err(WireError("not a grading request".into()));
+        }
+        let op = match (r.u8()?, r.u32()?) {
+            (0, e) => Op::Flip(EdgeId(e)),
+            (1, e) => Op::Split(EdgeId(e)),
+            (2, rounds) => Op::Subdivide { rounds },
+            (x, _) => return Err(WireError(format!("unknown operation {x}"))),
+        };
+        let budget = r.u64()?;
+        let mesh = r.mesh()?;
+        r.end()?;
+        Ok(Request { op, budget, mesh })
+    }
+}
+
+/// The launcher's frame: what protections are in force.
+pub fn sandbox_frame(status: &str) -> Vec<u8> {
+    let mut out = vec![TAG_SANDBOX];
+    put_str(&mut out, status);
+    out
+}
+
+/// The frame that starts the clock.
+pub fn started_frame() -> Vec<u8> {
+    vec![TAG_STARTED]
+}
+
+/// The child's last frame.
+pub fn result_frame(ran: &Ran) -> Vec<u8> {
+    let mut out = vec![TAG_RESULT];
+    match ran {
+        Ran::Returned { answer, mesh } => {
+            out.push(0);
+            match *answer {
+                Answer::Unit => out.push(0),
+                Answer::Nothing => out.push(1),
+                Answer::Edge(e) => {
+                    out.push(2);
+                    put_u32(&mut out, e.0);
+                }
+                Answer::Vertex(v) => {
+                    out.push(3);
+                    put_u32(&mut out, v.0);
+                }
+            }
+            put_mesh(&mut out, mesh);
+        }
+        Ran::Panicked { message, location } => {
+            out.push(1);
+            put_str(&mut out, message);
+            put_str(&mut out, location.as_deref().unwrap_or(""));
+        }
+    }
+    out
+}
+
+/// Splits what the child wrote into frames. A stream that ends inside a
+/// frame, or holds anything after the result, is an error.
+pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
+    let mut r = Reader { bytes };
+    let mut frames = Vec::new();
+    while !r.bytes.is_empty() {
+        match r.u8()? {
+            TAG_SANDBOX => frames.push(Frame::Sandbox(r.str()?)),
+            TAG_STARTED => frames.push(Frame::Started),
+            TAG_RESULT => {
+                let ran = match r.u8()? {
+                    0 => {
+                        let answer = match r.u8()? {
+                            0 => Answer::Unit,
+                            1 => Answer::Nothing,
+                            2 => Answer::Edge(EdgeId(r.u32()?)),
+                            3 => Answer::Vertex(VertexId(r.u32()?)),
+                            x => return Err(WireError(format!("unknown answer kind {x}"))),
+                        };
+                        Ran::Returned {
+                            answer,
+                            mesh: r.mesh()?,
+                        }
+                    }
+                    1 => {
+                        let message = r.str()?;
+                        let location = Some(r.str()?).filter(|l| !l.is_empty());
+                        Ran::Panicked { message, location }
+                    }
+                    x => return Err(WireError(format!("unknown result kind {x}"))),
+                };
+                frames.push(Frame::Result(ran));
+                r.end()?;
+            }
+            x => return Err(WireError(format!("unknown frame {x}"))),
+        }
+    }
+    Ok(frames)
+}
+
+/// The tags of the launcher's frame and of the frame that starts the
+/// clock, for a reader that watches the stream as it arrives.
+pub const SANDBOX_TAG: u8 = TAG_SANDBOX;
+pub const STARTED_TAG: u8 = TAG_STARTED;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn same(a: &Mesh, b: &Mesh) -> bool {
+        let (x, y) = (a.records(), b.records());
+        let bits = |v: &[Vertex]| -> Vec<[u64; 3]> {
+            v.iter()
+                .map(|v| v.pos.to_array().map(f64::to_bits))
+                .collect()
+        };
+        bits(x.0) == bits(y.0) && x.1 == y.1 && x.2 == y.2 && x.3 == y.3
+    }
+
+    #[test]
+    fn a_request_round_trips_exactly() {
+        let mut mesh = halfedge::shapes::lab_object("cone").unwrap();
+        mesh[VertexId(2)].pos.x = f64::NAN;
+        mesh[VertexId(3)].pos.y = -0.0;
+        let req = Request {
+            op: Op::Split(EdgeId(4)),
+            budget: 1234,
+            mesh,
+        };
+        let back = Request::decode(&req.encode()).unwrap();
+        assert_eq!(back.op, req.op);
+        assert_eq!(back.budget, 1234);
+        assert!(same(&back.mesh, &req.mesh));
+        assert!(back.mesh[VertexId(2)].pos.x.is_nan());
+    }
+
+    #[test]
+    fn frames_round_trip() {
+        let mesh = halfedge::shapes::lab_object("cube").unwrap();
+        let mut bytes = sandbox_frame("landlock v6");
+        bytes.extend(started_frame());
+        bytes.extend(result_frame(&Ran::Returned {
+            answer: Answer::Edge(EdgeId(3)),
+            mesh: mesh.clone(),
+        }));
+        let frames = decode_frames(&bytes).unwrap();
+        assert!(matches!(&frames[0], Frame::Sandbox(s) if s == "landlock v6"));
+        assert!(matches!(frames[1], Frame::Started));
+        match &frames[2] {
+            Frame::Result(Ran::Returned { answer, mesh: m }) => {
+                assert_eq!(*answer, Answer::Edge(EdgeId(3)));
+                assert!(same(m, &mesh));
+            }
+            other => panic!("{other:?}"),
+        }
+        let panicked = result_frame(&Ran::Panicked {
+            message: "boom".into(),
+            location: None,
+        });
+        match &decode_frames(&panicked).unwrap()[0] {
+            Frame::Result(Ran::Panicked { message, location }) => {
+                assert_eq!((message.as_str(), location), ("boom", &None));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic() {
+        let mesh = halfedge::shapes::lab_object("cube").unwrap();
+        let good = result_frame(&Ran::Returned {
+            answer: Answer::Unit,
+            mesh,
+        });
+        for cut in [1, 2, 3, 10, good.len() - 1] {
+            assert!(decode_frames(&good[..cut]).is_err(), "cut at {cut}");
+        }
+        let mut extra = good.clone();
+        extra.push(0);
+        assert!(decode_frames(&extra).is_err());
+        // A count far larger than the bytes present is refused before any allocation.
+        let mut huge = vec![TAG_RESULT, 0, 0];
+        huge.extend_from_slice(&u32::MAX.to_le_bytes());
+        assert!(decode_frames(&huge).is_err());
+        assert!(decode_frames(b"Zzz").is_err());
+        assert!(Request::decode(b"MLQ1").is_err());
+    }
+}
