@@ -111,6 +111,10 @@ pub struct Cli {
     /// The most memory a case may use, e.g. 2G or 512M (64M to 64G).
     #[arg(long, value_name = "SIZE", default_value = "2G", value_parser = parse_memory)]
     pub memory: u64,
+    /// Grade without Landlock, as on a kernel that lacks it (to test the
+    /// other protections).
+    #[arg(long, hide = true)]
+    pub without_landlock: bool,
     /// Seed of the relabelled inputs each case also runs on [default: one
     /// per case, fixed]; a failure prints the seed that shows it.
     #[arg(long, value_name = "N")]
@@ -133,12 +137,16 @@ fn parse_memory(text: &str) -> Result<u64, String> {
         "K" => 1 << 10,
         "M" => 1 << 20,
         "G" => 1 << 30,
-        _ => return Err(format!("{text:?}: give a size like 2G or 512M")),
+        _ => {
+            return Err(format!(
+                "{text:?}: give a size like 2G or 512M, from 64M to 64G"
+            ))
+        }
     };
     let value: f64 = number
         .trim()
         .parse()
-        .map_err(|_| format!("{text:?}: give a size like 2G or 512M"))?;
+        .map_err(|_| format!("{text:?}: give a size like 2G or 512M, from 64M to 64G"))?;
     let bytes = value * scale as f64;
     if !(bytes >= (64u64 << 20) as f64 && bytes <= (64u64 << 30) as f64) {
         return Err(format!("{text:?} is out of range: between 64M and 64G"));
@@ -369,6 +377,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     let limits = sandbox::Limits {
         memory: cli.memory,
         drop_user: sandbox::runnable_by_others(&program.exe),
+        landlock: !cli.without_landlock,
     };
     let mut protections = None;
     let mut reports = Vec::new();

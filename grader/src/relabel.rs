@@ -200,9 +200,11 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
                 ptr.face[input[g].face.index()] = if side == h { after } else { before };
             }
             let in_hole = hole_side == Some(side);
-            let what = format!(
-                "mesh[e].halfedge is h{}; mesh[a].halfedge is h (a -> b) and mesh[b].halfedge is t \
-                 (b -> a); each face of the edge points at the halfedge {} the edge's",
+            let what =
+                format!(
+                "mesh[e].halfedge = h (a -> b){}, mesh[a].halfedge = h and mesh[b].halfedge = t \
+                 (b -> a), both along the edge; each face of the edge points at the halfedge {} \
+                 h or t",
                 if in_hole { ", which lies in the hole" } else { "" },
                 if side == h { "after" } else { "before" }
             );

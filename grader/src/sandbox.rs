@@ -42,6 +42,9 @@ pub struct Limits {
     pub memory: u64,
     /// Whether to drop to `nobody` when running as root.
     pub drop_user: bool,
+    /// Whether to apply Landlock (off only to test what a kernel without
+    /// it leaves: the other protections must still hold).
+    pub landlock: bool,
 }
 
 impl Default for Limits {
@@ -49,6 +52,7 @@ impl Default for Limits {
         Limits {
             memory: 2 << 30,
             drop_user: true,
+            landlock: true,
         }
     }
 }
@@ -66,12 +70,19 @@ pub fn format_bytes(bytes: u64) -> String {
     }
 }
 
-/// The launcher's command line: `LAUNCH_ARG memory drop child args...`.
+/// The launcher's command line: `LAUNCH_ARG memory drop|keep
+/// landlock|nolandlock child args...`.
 pub fn launcher_args(limits: &Limits, child: &Path, child_args: &[OsString]) -> Vec<OsString> {
     let mut args: Vec<OsString> = vec![
         LAUNCH_ARG.into(),
         limits.memory.to_string().into(),
         if limits.drop_user { "drop" } else { "keep" }.into(),
+        if limits.landlock {
+            "landlock"
+        } else {
+            "nolandlock"
+        }
+        .into(),
         child.as_os_str().to_owned(),
     ];
     args.extend(child_args.iter().cloned());
@@ -95,8 +106,8 @@ pub fn launch_if_asked() {
 }
 
 fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), String> {
-    let [memory, drop, child, rest @ ..] = args else {
-        return Err("the launcher needs: MEMORY drop|keep CHILD [ARGS]".into());
+    let [memory, drop, landlock, child, rest @ ..] = args else {
+        return Err("the launcher needs: MEMORY drop|keep landlock|nolandlock CHILD [ARGS]".into());
     };
     let memory = memory
         .to_str()
@@ -106,6 +117,7 @@ fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), S
         Limits {
             memory,
             drop_user: drop == "drop",
+            landlock: landlock == "landlock",
         },
         PathBuf::from(child),
         rest.to_vec(),
@@ -251,7 +263,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
                 return Err("the grader is gone".into());
             }
         }
-        let abi = landlock(child)?;
+        let abi = if limits.landlock { landlock(child)? } else { 0 };
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
         Ok(format!(
             "landlock={abi} memory={} user={} group=own",
@@ -331,6 +343,7 @@ mod tests {
         let limits = Limits {
             memory: 123,
             drop_user: false,
+            landlock: false,
         };
         let args = launcher_args(&limits, Path::new("/x/child"), &["a".into()]);
         let (l, c, rest) = parse_launch(&args[1..]).unwrap();

@@ -6,6 +6,7 @@
 //!   rules and a choice of weights.
 //! - [`mutants`]: other correct answers and one wrong answer per common
 //!   mistake, for the fixtures' hints and the grader's tests.
+//! - [`hostile`]: attacks on the grader, for its tests.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`handout`]: exporting the student workspace.
 //! - [`class`]: grading a folder of submissions.
@@ -15,6 +16,7 @@
 pub mod cases;
 pub mod class;
 pub mod handout;
+pub mod hostile;
 pub mod mutants;
 pub mod solution;
 

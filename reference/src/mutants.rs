@@ -8,6 +8,7 @@
 
 use halfedge::{DVec3, EdgeId, HalfedgeId, Mesh, VertexId};
 
+use crate::hostile;
 use crate::solution::{self, Weights};
 use grader::Implementation;
 
@@ -111,6 +112,18 @@ pub fn catalogue() -> Vec<Entry> {
         e("abort", "loop_subdivide aborts the process", with(None, None, Some(sub_abort))),
         e("exit", "loop_subdivide calls std::process::exit(0)", with(None, None, Some(sub_exit))),
         e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", with(None, None, Some(sub_fake_verdict))),
+        e("split-stale-b", "split_edge never updates b's halfedge (passes on meshes as built from faces)", with(None, Some(hostile::split_stale_b), None)),
+        e("split-stale-faces", "split_edge never resets the halfedge of the faces it shrinks", with(None, Some(hostile::split_stale_faces), None)),
+        e("split-assumes-inside", "split_edge refuses a boundary edge given by its halfedge in the hole", with(None, Some(hostile::split_assumes_inside), None)),
+        e("flip-any-face", "flip_edge flips beside faces that are not triangles", with(Some(hostile::flip_any_face), None, None)),
+        e("subdivide-skips-quads", "loop_subdivide returns quietly on a mesh that is not all triangles", with(None, None, Some(hostile::subdivide_skips_quads))),
+        e("nan-position", "loop_subdivide leaves one vertex at NaN", with(None, None, Some(hostile::nan_position))),
+        e("tamper", "reads the fixtures and the grader's command line, tampers with fixtures and results.json, then makes the no-flip mistake", with(None, None, Some(hostile::tamper))),
+        e("forge-frames", "writes a forged result on every file descriptor, then exits", with(None, None, Some(hostile::forge_frames))),
+        e("orphan", "leaves a process holding the grader's pipes for 40 s", with(None, None, Some(hostile::orphan))),
+        e("detached", "leaves a detached process that rewrites results.json after the grader finished", with(None, None, Some(hostile::detached))),
+        e("memory-hog", "touches 6 GiB of memory", with(None, None, Some(hostile::memory_hog))),
+        e("replace-and-grow", "replaces the mesh with Mesh::new() and grows it without end", with(None, None, Some(hostile::replace_and_grow))),
     ]
 }
 
@@ -375,6 +388,11 @@ fn sub_moved_first(mesh: &mut Mesh) {
     solution::move_vertices(mesh);
     solution::edge_points(mesh);
     after_points(mesh);
+}
+
+/// The no-flip mistake: split, but flip nothing.
+pub(crate) fn no_flip(mesh: &mut Mesh) {
+    sub_no_flip(mesh);
 }
 
 fn sub_no_flip(mesh: &mut Mesh) {

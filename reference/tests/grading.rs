@@ -96,6 +96,18 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("abort", "cube-subdivide-1", "loop_subdivide crashed: signal 6 (SIGABRT: the program aborted)", None),
     ("exit", "cube-subdivide-1", "loop_subdivide ended the program (exit status 0) before returning", Some("std::process::exit")),
     ("fake-verdict", "cube-subdivide-1", "at least one of the edges connects incorrect vertices", Some("    | grade.rs:1 [info] all tests passed, congratulations!")),
+    // Order-dependent bugs: right on the mesh as built, wrong on another labelling.
+    ("split-stale-b", "cube-split", "the result of split_edge is a invalid mesh: A vertex's halfedge does not point to that vertex!", Some("does split_edge update mesh[a].halfedge and mesh[b].halfedge")),
+    ("split-stale-faces", "cube-split", "the result of split_edge is a invalid mesh: A face's halfedge does not point to that face!", Some("does split_edge reset mesh[f].halfedge")),
+    ("split-assumes-inside", "grid-split-boundary", "split_edge returned None for a boundary edge", Some("does split_edge work when mesh[e].halfedge lies in the hole?")),
+    // The contract's refusals.
+    ("flip-any-face", "quad-box-flip", "flip_edge changed an edge beside a face that is not a triangle: it must return None and leave the mesh unchanged", None),
+    ("subdivide-skips-quads", "quad-box-subdivide-1", "loop_subdivide returned, but the mesh has a face that is not a triangle: it must panic with a message that says so", None),
+    ("flip-index-panic", "pentagon-pyramid-flip", "flip_edge panicked: index out of bounds", None),
+    // Faults named for what they are.
+    ("nan-position", "cube-subdivide-1", "the result of subdivision is a invalid mesh: vertex v13 is at (0.375, NaN, -0.125): a position must be a finite number", None),
+    ("forge-frames", "cube-subdivide-1", "number of vertices is wrong: 8 (should be 26)", None),
+    ("replace-and-grow", "cube-subdivide-1", "loop_subdivide panicked: the mesh grew past 10000 elements", None),
 ];
 
 #[test]
@@ -289,4 +301,241 @@ fn list_names_every_case() {
         && l.contains("lab")
         && l.contains("loop_subdivide")));
     assert!(g.stdout.lines().count() >= 40);
+}
+
+/// Whether this kernel offers Landlock (ABI version > 0).
+fn kernel_has_landlock() -> bool {
+    // SAFETY: landlock_create_ruleset(NULL, 0, VERSION) only reports the ABI.
+    unsafe {
+        libc::syscall(
+            libc::SYS_landlock_create_ruleset,
+            std::ptr::null::<u8>(),
+            0usize,
+            1u32,
+        ) > 0
+    }
+}
+
+/// Processes still running an implementation's child (`serve-case NAME`).
+fn survivors(implementation: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(raw) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let args: Vec<String> = raw
+            .split(|&b| b == 0)
+            .map(|a| String::from_utf8_lossy(a).into_owned())
+            .collect();
+        if args.iter().any(|a| a == "serve-case") && args.iter().any(|a| a == implementation) {
+            out.push(format!("{:?}: {}", entry.file_name(), args.join(" ")));
+        }
+    }
+    out
+}
+
+#[test]
+fn the_protections_line_says_what_is_in_force() {
+    let g = grade("reference", &["--case", "cube-flip-1"]);
+    let line = g
+        .stdout
+        .lines()
+        .find(|l| l.contains("[info] protections: "))
+        .unwrap_or_else(|| panic!("no protections line:\n{}", g.stdout));
+    assert!(
+        line.contains("memory cap 2 GiB, own process group"),
+        "{line}"
+    );
+    if kernel_has_landlock() {
+        assert!(line.contains("Landlock ABI "), "{line}");
+        assert!(
+            line.contains("no files, no network, no signals out"),
+            "{line}"
+        );
+    } else {
+        assert!(line.contains("Landlock off"), "{line}");
+    }
+    // SAFETY: geteuid only reads.
+    if unsafe { libc::geteuid() } == 0 {
+        assert!(
+            line.ends_with(", user nobody"),
+            "root drops to nobody: {line}"
+        );
+    }
+    let off = grade(
+        "reference",
+        &["--case", "cube-flip-1", "--without-landlock"],
+    );
+    assert!(off.stdout.contains("Landlock off"), "{}", off.stdout);
+}
+
+/// A scratch copy of the committed fixtures.
+fn fixtures_copy(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let root = reference::lab_root().join("fixtures");
+    for group in ["lab", "bonus", "hidden"] {
+        std::fs::create_dir_all(dir.join(group)).unwrap();
+        for entry in std::fs::read_dir(root.join(group)).unwrap().flatten() {
+            std::fs::copy(entry.path(), dir.join(group).join(entry.file_name())).unwrap();
+        }
+    }
+    dir
+}
+
+fn snapshot(dir: &std::path::Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    for group in ["lab", "bonus", "hidden"] {
+        for entry in std::fs::read_dir(dir.join(group)).unwrap().flatten() {
+            out.push((entry.path(), std::fs::read(entry.path()).unwrap()));
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn student_code_can_read_and_write_nothing() {
+    let dir = fixtures_copy("tamper");
+    let before = snapshot(&dir);
+    let results = dir.join("results.json");
+    let _ = std::fs::remove_dir_all(reference::hostile::MARK_DIR);
+    let args = [
+        "--case",
+        "cube-subdivide-1",
+        "--fixtures",
+        dir.to_str().unwrap(),
+        "--gradescope",
+        results.to_str().unwrap(),
+    ];
+    let g = grade("tamper", &args);
+    assert_eq!(g.code, 1, "{}{}", g.stdout, g.stderr);
+    assert!(
+        g.stdout.contains("hint: no edge was flipped"),
+        "{}",
+        g.stdout
+    );
+    if kernel_has_landlock() {
+        for attack in [
+            "read the grader's command line",
+            "read the expected answer",
+            "tamper with a fixture",
+            "rewrite the digest list",
+            "write a file",
+        ] {
+            assert!(
+                g.stdout.contains(&format!("| attack: {attack}: denied")),
+                "{attack}:\n{}",
+                g.stdout
+            );
+        }
+    }
+    assert!(!g.stdout.contains(": done"), "{}", g.stdout);
+    assert_eq!(snapshot(&dir), before, "the fixtures are untouched");
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&results).unwrap()).unwrap();
+    assert_eq!(written["score"].as_f64(), Some(0.0), "{written}");
+    assert!(!std::path::Path::new(reference::hostile::MARK_DIR).exists());
+    // Graded again, the same verdict: nothing was left tampered.
+    let again = grade("tamper", &args);
+    assert_eq!(again.code, 1);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_tampered_fixture_stops_the_run_and_names_the_file() {
+    let dir = fixtures_copy("tampered");
+    let cube = dir.join("lab/cube-subdivide-1.json");
+    let text = std::fs::read_to_string(&cube).unwrap();
+    // A tolerance still in range, so only the digest can tell.
+    std::fs::write(
+        &cube,
+        text.replace("\"tolerance\": 0.00001", "\"tolerance\": 0.00002"),
+    )
+    .unwrap();
+    let g = grade("no-flip", &["--fixtures", dir.to_str().unwrap()]);
+    assert_eq!(g.code, 2, "{}", g.stdout);
+    assert!(
+        g.stderr.contains(
+            "lab/cube-subdivide-1.json: has been changed since the fixtures were generated"
+        ),
+        "{}",
+        g.stderr
+    );
+    assert!(g.stdout.is_empty(), "no case is graded: {}", g.stdout);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn processes_left_behind_cannot_hold_or_outlive_the_grader() {
+    for without_landlock in [false, true] {
+        let mut extra: Vec<&str> = vec![];
+        if without_landlock {
+            extra.push("--without-landlock");
+        }
+        // A process holding the pipes for 40 s: the case ends when the function does.
+        let start = std::time::Instant::now();
+        let mut args = vec!["--case", "cube-subdivide-1", "--timeout", "3"];
+        args.extend(&extra);
+        let g = grade("orphan", &args);
+        let took = start.elapsed();
+        assert_eq!(g.code, 1, "{}", g.stdout);
+        assert!(
+            g.stdout.contains("hint: no edge was flipped"),
+            "{}",
+            g.stdout
+        );
+        assert!(took.as_secs_f64() < 5.0, "took {took:?} with a 3 s limit");
+        assert_eq!(survivors("orphan"), Vec::<String>::new());
+
+        // A detached process that would rewrite results.json 3 s later.
+        let dir = std::env::temp_dir().join(format!("detached-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let results = dir.join("results.json");
+        let _ = std::fs::remove_dir_all(reference::hostile::MARK_DIR);
+        let mut args = vec![
+            "--case",
+            "cube-subdivide-1",
+            "--gradescope",
+            results.to_str().unwrap(),
+        ];
+        args.extend(&extra);
+        let g = grade("detached", &args);
+        assert_eq!(g.code, 1, "{}", g.stdout);
+        assert_eq!(survivors("detached"), Vec::<String>::new());
+        let written = std::fs::read_to_string(&results).unwrap();
+        std::thread::sleep(std::time::Duration::from_secs(4));
+        assert_eq!(
+            std::fs::read_to_string(&results).unwrap(),
+            written,
+            "results.json stays the grader's"
+        );
+        assert!(!std::path::Path::new(reference::hostile::MARK_DIR)
+            .join("detached")
+            .exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[test]
+fn a_memory_hog_is_named_as_one() {
+    let g = grade(
+        "memory-hog",
+        &["--case", "cube-subdivide-1", "--memory", "256M"],
+    );
+    assert_eq!(g.code, 1, "{}", g.stdout);
+    assert!(
+        g.stdout
+            .contains("[warn] loop_subdivide used more than 256 MiB of memory"),
+        "{}",
+        g.stdout
+    );
+    for bad in ["10M", "1T", "lots"] {
+        let g = grade("reference", &["--memory", bad]);
+        assert_eq!(g.code, 2, "--memory {bad}");
+        assert!(g.stderr.contains("64M"), "{bad}: {}", g.stderr);
+    }
+    let g = grade("reference", &["--timeout", "1e20"]);
+    assert_eq!(g.code, 2);
+    assert!(g.stderr.contains("from 0.1 to 3600"), "{}", g.stderr);
 }
