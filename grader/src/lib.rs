@@ -23,6 +23,12 @@
 //! [`child::serve`] with the student's functions). Tests run other
 //! implementations through the reference's own child program.
 
+#[cfg(not(unix))]
+compile_error!(
+    "the grader runs each case in a locked-in child process, which needs Linux or macOS: \
+     on Windows, work in WSL (Windows Subsystem for Linux)"
+);
+
 pub mod child;
 pub mod digest;
 pub mod fixture;

@@ -114,13 +114,16 @@ enum Event {
 /// Becomes a child subreaper: orphans of our children are reparented to
 /// us, so [`kill_descendants`] can find them. Idempotent.
 pub fn become_subreaper() {
-    // SAFETY: a plain prctl call.
+    // SAFETY: a plain prctl call. (Linux only: elsewhere the process group
+    // kill is the only sweep.)
+    #[cfg(target_os = "linux")]
     unsafe {
         libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0);
     }
 }
 
-/// The ids of the processes whose parent is `parent`, from /proc.
+/// The ids of the processes whose parent is `parent`, from /proc (none
+/// where there is no /proc).
 fn children_of(parent: u32) -> Vec<u32> {
     let Ok(dir) = std::fs::read_dir("/proc") else {
         return Vec::new();

@@ -138,7 +138,12 @@ pub fn runnable_by_others(exe: &Path) -> bool {
         .all(|p| mode(p).is_ok_and(|m| m & 0o001 != 0))
 }
 
-fn set_limit(resource: libc::__rlimit_resource_t, value: u64) -> Result<(), String> {
+#[cfg(target_os = "linux")]
+type Resource = libc::__rlimit_resource_t;
+#[cfg(not(target_os = "linux"))]
+type Resource = libc::c_int;
+
+fn set_limit(resource: Resource, value: u64) -> Result<(), String> {
     let limit = libc::rlimit {
         rlim_cur: value as libc::rlim_t,
         rlim_max: value as libc::rlim_t,
@@ -160,9 +165,10 @@ fn drop_privileges() -> Result<bool, String> {
         if libc::geteuid() != 0 {
             return Ok(false);
         }
+        // Group first: once the user is dropped, the group cannot be.
         if libc::setgroups(0, std::ptr::null()) != 0
-            || libc::setresgid(NOBODY, NOBODY, NOBODY) != 0
-            || libc::setresuid(NOBODY, NOBODY, NOBODY) != 0
+            || libc::setgid(NOBODY) != 0
+            || libc::setuid(NOBODY) != 0
         {
             return Err(format!(
                 "cannot drop to user nobody: {}",
@@ -176,7 +182,14 @@ fn drop_privileges() -> Result<bool, String> {
     Ok(true)
 }
 
+/// Landlock is Linux's: elsewhere the other protections stand alone.
+#[cfg(not(target_os = "linux"))]
+fn landlock(_: &Path) -> Result<i32, String> {
+    Ok(0)
+}
+
 /// Applies Landlock; returns the ABI in force (0 when the kernel has none).
+#[cfg(target_os = "linux")]
 fn landlock(child: &Path) -> Result<i32, String> {
     use landlock::{
         Access, AccessFs, AccessNet, CompatLevel, Compatible, LandlockStatus, PathBeneath, PathFd,
