@@ -666,6 +666,18 @@ fn check_returned_shape(
     }
 }
 
+/// Adds a detail line to a case's report, above its "end testing" line.
+pub fn add_detail(report: &mut CaseReport, text: String) {
+    let end = report.entries.pop();
+    let mut log = Log {
+        entries: std::mem::take(&mut report.entries),
+        passed: report.passed,
+    };
+    say!(log, Detail, "{text}");
+    report.entries = log.entries;
+    report.entries.extend(end);
+}
+
 /// Says, under a failure, that it showed only on a relabelled input, what
 /// that input looked like, and what to check.
 pub fn note_labelling(

@@ -125,6 +125,12 @@ pub struct Cli {
     /// per case, fixed]; a failure prints the seed that shows it.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// Show every bonus case in full, even when they do not count.
+    #[arg(short, long)]
+    pub verbose: bool,
+    /// Print only the summary and the verdict.
+    #[arg(short, long, conflicts_with = "verbose")]
+    pub quiet: bool,
     /// Never colour `[warn]` lines (also off when NO_COLOR is set or output is
     /// not a terminal).
     #[arg(long)]
@@ -225,6 +231,9 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
     })
 }
 
+/// Seconds a function that already timed out gets on its later cases.
+const SHORT_LIMIT: f64 = 1.0;
+
 /// How many random labellings each case also runs on, besides the mesh as
 /// built and (for a flip or split) the two chosen ones.
 const RANDOM_LABELLINGS: usize = 2;
@@ -251,6 +260,7 @@ fn grade_case(
     cli: &Cli,
     program: &runner::ChildProgram,
     limits: &sandbox::Limits,
+    timeout: Duration,
     protections: &mut Option<String>,
 ) -> Result<grade::CaseReport, String> {
     use runner::{ChildReport, Exit, Run};
@@ -259,7 +269,6 @@ fn grade_case(
     let labellings =
         relabel::labellings(&case.input, f.edge_in(&case.input), seed, RANDOM_LABELLINGS);
     let budget = budget(f);
-    let timeout = Duration::from_secs_f64(cli.timeout);
     let mut first = None;
     for (i, l) in labellings.iter().enumerate() {
         let op = match (f.operation, l.edge) {
@@ -316,6 +325,22 @@ fn grade_case(
         first.get_or_insert(report);
     }
     first.ok_or_else(|| format!("{}: no labelling ran", f.name))
+}
+
+/// What a run that graded only part of the lab graded, in words.
+fn partial_run(cli: &Cli) -> Option<String> {
+    match (&cli.case, cli.stage) {
+        (Some(case), _) => Some(format!("--case {case}")),
+        (None, Some(stage)) => Some(format!(
+            "--stage {}",
+            match stage {
+                StageArg::Flip => "flip",
+                StageArg::Split => "split",
+                StageArg::Subdivide => "subdivide",
+            }
+        )),
+        (None, None) => None,
+    }
 }
 
 /// Grades per the command line, running the cases in `program`.
@@ -387,9 +412,45 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     };
     let mut protections = None;
     let mut reports = Vec::new();
+    // Once a function has timed out, its later cases get a short limit: an
+    // endless loop should cost the full limit once, not once per case.
+    let mut timed_out: Vec<(Stage, String)> = Vec::new();
     for case in &cases {
-        match grade_case(case, cli, program, &limits, &mut protections) {
-            Ok(r) => reports.push(r),
+        let stage = case.fixture.operation.stage();
+        let earlier = timed_out
+            .iter()
+            .find(|(s, _)| *s == stage)
+            .map(|(_, n)| n.clone());
+        let limit = match &earlier {
+            Some(_) => cli.timeout.min(SHORT_LIMIT),
+            None => cli.timeout,
+        };
+        match grade_case(
+            case,
+            cli,
+            program,
+            &limits,
+            Duration::from_secs_f64(limit),
+            &mut protections,
+        ) {
+            Ok(mut r) => {
+                let timed = r.entries.iter().any(|e| {
+                    e.level == grade::Level::Warn && e.text.contains("did not finish within")
+                });
+                if timed {
+                    match earlier {
+                        Some(name) => grade::add_detail(
+                            &mut r,
+                            format!(
+                                "the limit was cut to {limit} s because {} already timed out on {name}",
+                                stage.function()
+                            ),
+                        ),
+                        None => timed_out.push((stage, r.name.clone())),
+                    }
+                }
+                reports.push(r)
+            }
             Err(e) => return usage_error(&e),
         }
     }
@@ -400,10 +461,21 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         .as_deref()
         .map(sandbox::describe_status)
         .unwrap_or_else(|| "protections: unknown (no case reported them)".into());
+    let protections_json = protections.clone();
 
     let output = match cli.format {
-        Format::Text => report::text(&reports, bonus, use_color(cli), &protections),
-        Format::Json => report::json(&reports, bonus, &protections),
+        Format::Text => report::text(
+            &reports,
+            &report::TextOptions {
+                bonus,
+                color: use_color(cli),
+                protections,
+                verbose: cli.verbose,
+                quiet: cli.quiet,
+                partial: partial_run(cli),
+            },
+        ),
+        Format::Json => report::json(&reports, bonus, &protections_json),
     };
     print!("{output}");
     if let Some(path) = &cli.gradescope {

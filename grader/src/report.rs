@@ -52,34 +52,78 @@ fn render_case(out: &mut String, case: &CaseReport, color: bool) {
     }
 }
 
+/// How the text report is shown.
+#[derive(Clone, Debug, Default)]
+pub struct TextOptions {
+    /// Bonus cases count toward the verdict.
+    pub bonus: bool,
+    pub color: bool,
+    /// The protections line.
+    pub protections: String,
+    /// Show every bonus case in full even when they do not count.
+    pub verbose: bool,
+    /// Only the summary and the verdict.
+    pub quiet: bool,
+    /// What part of the lab was graded (`--stage flip`, `--case X`), for a
+    /// run that graded only part: it never ends with the lab's
+    /// congratulations.
+    pub partial: Option<String>,
+}
+
+/// At most this many failing cases are listed in the summary.
+const SUMMARY_FAILURES: usize = 8;
+
 /// The whole text report: the protections in force, lab (and hidden)
-/// cases, then bonus cases apart, a summary per function, and the verdict
-/// as the last line.
-pub fn text(cases: &[CaseReport], bonus: bool, color: bool, protections: &str) -> String {
+/// cases, bonus cases apart (one line when they do not count), then a
+/// summary a student reads at a glance: cases passed per function, each
+/// failing case with its first warning, the next command to run, and the
+/// verdict as the last line.
+pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
+    let color = opts.color;
     let mut out = String::new();
-    log_line(&mut out, file!(), line!(), false, protections, color);
+    log_line(&mut out, file!(), line!(), false, &opts.protections, color);
     let (main, extra): (Vec<_>, Vec<_>) = cases.iter().partition(|c| c.group != Group::Bonus);
-    for case in &main {
-        render_case(&mut out, case, color);
-    }
-    if !extra.is_empty() {
-        let counted = if bonus {
-            "counted"
-        } else {
-            "not counted; pass --bonus to count them"
-        };
-        log_line(
-            &mut out,
-            file!(),
-            line!(),
-            false,
-            &format!("bonus cases: meshes with boundary ({counted})"),
-            color,
-        );
-        for case in &extra {
+    if !opts.quiet {
+        for case in &main {
             render_case(&mut out, case, color);
         }
     }
+    if !extra.is_empty() {
+        let ok = extra.iter().filter(|c| c.passed).count();
+        let shown = opts.bonus || opts.verbose;
+        let counted = if opts.bonus {
+            "counted".to_string()
+        } else if shown {
+            "not counted; pass --bonus to count them".to_string()
+        } else {
+            format!(
+                "not counted: {ok} of {} passed; --bonus to count them, -v to see them",
+                extra.len()
+            )
+        };
+        if !opts.quiet || !opts.bonus {
+            log_line(
+                &mut out,
+                file!(),
+                line!(),
+                false,
+                &format!("bonus cases: meshes with boundary ({counted})"),
+                color,
+            );
+        }
+        if shown && !opts.quiet {
+            for case in &extra {
+                render_case(&mut out, case, color);
+            }
+        }
+    }
+    summary(&mut out, cases, opts);
+    out
+}
+
+/// The last lines: tallies, failures, what to do next, the verdict.
+fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
+    let color = opts.color;
     for (label, group) in [("lab", false), ("bonus", true)] {
         let set: Vec<_> = cases
             .iter()
@@ -97,7 +141,7 @@ pub fn text(cases: &[CaseReport], bonus: bool, color: bool, protections: &str) -
             }
         }
         log_line(
-            &mut out,
+            out,
             file!(),
             line!(),
             false,
@@ -105,19 +149,89 @@ pub fn text(cases: &[CaseReport], bonus: bool, color: bool, protections: &str) -
             color,
         );
     }
-    if all_passed(cases, bonus) {
+    let failed: Vec<&CaseReport> = cases
+        .iter()
+        .filter(|c| !c.passed && counts(c, opts.bonus))
+        .collect();
+    // Cases that failed with the same first warning share one line.
+    let first_warning = |c: &CaseReport| -> String {
+        c.entries
+            .iter()
+            .find(|e| e.level == Level::Warn)
+            .map_or("failed".to_string(), |e| e.text.clone())
+    };
+    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
+    for c in &failed {
+        let text = first_warning(c);
+        match groups.iter_mut().find(|(t, _)| *t == text) {
+            Some((_, names)) => names.push(&c.name),
+            None => groups.push((text, vec![&c.name])),
+        }
+    }
+    for (text, names) in groups.iter().take(SUMMARY_FAILURES) {
+        let who = match names.len() {
+            1 => names[0].to_string(),
+            n => format!("{} and {} more", names[0], n - 1),
+        };
         log_line(
-            &mut out,
+            out,
+            file!(),
+            line!(),
+            true,
+            &format!("{who}: {text}"),
+            color,
+        );
+    }
+    if groups.len() > SUMMARY_FAILURES {
+        let rest: usize = groups[SUMMARY_FAILURES..]
+            .iter()
+            .map(|(_, n)| n.len())
+            .sum();
+        log_line(
+            out,
+            file!(),
+            line!(),
+            true,
+            &format!("... and {rest} more failing cases"),
+            color,
+        );
+    }
+    if let Some(first) = failed.first() {
+        log_line(
+            out,
+            file!(),
+            line!(),
+            false,
+            &format!(
+                "next: fix {} first, then run it alone: cargo run -p grader -- --case {}",
+                first.stage.function(),
+                first.name
+            ),
+            color,
+        );
+        log_line(out, file!(), line!(), true, "test failed", color);
+    } else if let Some(part) = &opts.partial {
+        let n = cases.iter().filter(|c| counts(c, opts.bonus)).count();
+        log_line(
+            out,
+            file!(),
+            line!(),
+            false,
+            &format!(
+                "{part}: all {n} counted cases passed; run `cargo run -p grader` without it for the whole lab"
+            ),
+            color,
+        );
+    } else {
+        log_line(
+            out,
             file!(),
             line!(),
             false,
             "all tests passed, congratulations!",
             color,
         );
-    } else {
-        log_line(&mut out, file!(), line!(), true, "test failed", color);
     }
-    out
 }
 
 #[derive(Serialize)]

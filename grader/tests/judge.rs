@@ -589,24 +589,14 @@ fn a_fixture_in_the_wrong_folder_is_named() {
 fn warnings_are_red_only_with_colour_and_the_verdict_is_last() {
     let f = load("lab/cube-subdivide-1.json");
     let failed = faulted(&f, Run::StackOverflow);
-    let plain = grader::report::text(
-        std::slice::from_ref(&failed),
-        false,
-        false,
-        "protections: test",
-    );
+    let plain = grader::report::text(std::slice::from_ref(&failed), &opts(false));
     assert!(!plain.contains('\u{1b}'), "{plain}");
     assert!(plain.trim_end().ends_with("[warn] test failed"), "{plain}");
     assert!(
         plain.contains("    your code printed:\n    | debug print\n"),
         "{plain}"
     );
-    let red = grader::report::text(
-        std::slice::from_ref(&failed),
-        false,
-        true,
-        "protections: test",
-    );
+    let red = grader::report::text(std::slice::from_ref(&failed), &opts(true));
     assert!(
         red.contains(" \u{1b}[31m[warn] test failed\u{1b}[0m\n"),
         "{red}"
@@ -618,10 +608,18 @@ fn warnings_are_red_only_with_colour_and_the_verdict_is_last() {
 
     let (returned, after, mesh) = perfect(&f);
     let passed = finished(&f, returned, after, None, Some(mesh));
-    let text = grader::report::text(&[passed], false, true, "protections: test");
+    let text = grader::report::text(&[passed], &opts(true));
     assert!(
         text.trim_end()
             .ends_with("[info] all tests passed, congratulations!"),
         "{text}"
     );
+}
+
+fn opts(color: bool) -> grader::report::TextOptions {
+    grader::report::TextOptions {
+        color,
+        protections: "protections: test".into(),
+        ..Default::default()
+    }
 }

@@ -160,14 +160,63 @@ fn bonus_cases_count_only_when_asked() {
     // Refusing to split boundary edges fails only the bonus case.
     let quiet = grade("split-refuses-boundary", &["--stage", "split"]);
     assert_eq!(quiet.code, 0, "{}", quiet.stdout);
-    assert!(quiet
-        .stdout
-        .contains("bonus cases: meshes with boundary (not counted"));
-    assert!(quiet
+    // Uncounted bonus cases collapse to one line; -v shows them.
+    assert!(
+        quiet.stdout.contains(
+            "bonus cases: meshes with boundary (not counted: 1 of 2 passed; --bonus to count them, -v to see them)"
+        ),
+        "{}",
+        quiet.stdout
+    );
+    assert!(!quiet.stdout.contains("[warn]"), "{}", quiet.stdout);
+    // A partial run says what it graded, never the lab's congratulations.
+    let last = quiet.stdout.lines().last().unwrap_or("");
+    assert!(
+        last.ends_with("[info] --stage split: all 13 counted cases passed; run `cargo run -p grader` without it for the whole lab"),
+        "{last}"
+    );
+    let verbose = grade("split-refuses-boundary", &["--stage", "split", "-v"]);
+    assert!(verbose
         .stdout
         .contains("[warn] split_edge returned None for a boundary edge"));
     let counted = grade("split-refuses-boundary", &["--stage", "split", "--bonus"]);
     assert_eq!(counted.code, 1);
+    let tail: Vec<&str> = counted.stdout.lines().rev().take(3).collect();
+    assert!(tail[0].ends_with("[warn] test failed"), "{tail:?}");
+    assert!(
+        tail[1].ends_with("[info] next: fix split_edge first, then run it alone: cargo run -p grader -- --case grid-split-boundary"),
+        "{tail:?}"
+    );
+    assert!(
+        tail[2].ends_with("[warn] grid-split-boundary: split_edge returned None for a boundary edge: it must divide the one real triangle beside it"),
+        "{tail:?}"
+    );
+}
+
+#[test]
+fn quiet_prints_the_summary_alone_and_a_loop_costs_the_limit_once() {
+    let g = grade("stubs", &["-q"]);
+    assert_eq!(g.code, 1);
+    assert!(!g.stdout.contains("start testing"), "{}", g.stdout);
+    assert!(
+        g.stdout
+            .contains("[warn] cone-flip-1 and 23 more: flip_edge panicked: not yet implemented"),
+        "{}",
+        g.stdout
+    );
+    assert!(g.stdout.lines().count() <= 10, "{}", g.stdout);
+    let start = std::time::Instant::now();
+    let g = grade("endless", &["--stage", "subdivide", "--timeout", "2"]);
+    let took = start.elapsed().as_secs_f64();
+    assert!(
+        g.stdout.contains(
+            "the limit was cut to 1 s because loop_subdivide already timed out on cone-subdivide-1"
+        ),
+        "{}",
+        g.stdout
+    );
+    // 17 subdivision cases: 2 s once, then 1 s each, not 2 s each.
+    assert!(took < 2.0 + 16.0 * 1.0 + 6.0, "took {took} s");
 }
 
 #[test]

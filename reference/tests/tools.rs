@@ -193,7 +193,7 @@ fn add_makes_a_case_the_grader_runs() {
         run(&["fixtures", "--dir", f])
             .stdout
             .lines()
-            .filter(|l| l.contains("octa"))
+            .filter(|l| l.contains("/octa-"))
             .count(),
         0,
         "already current"
