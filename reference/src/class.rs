@@ -433,7 +433,13 @@ fn grade_one(
     };
     let not_graded = |row: &mut Row, status: &str, why: &str, log: &str| -> Result<(), String> {
         row.status = status.into();
-        row.first_failure = why.lines().next().unwrap_or("").to_string();
+        // The compiler's first error rather than the heading above it.
+        row.first_failure = why
+            .lines()
+            .find(|l| l.starts_with("error"))
+            .or_else(|| why.lines().next())
+            .unwrap_or("")
+            .to_string();
         write(
             "txt",
             &format!("{}: {status} (0 of {max})\n\n{why}\n", s.name),

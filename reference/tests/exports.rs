@@ -618,6 +618,11 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert_eq!(bob.functions[0], (counted("flip"), counted("flip")));
     assert_eq!((row("carol").score, row("carol").max), (0.0, max));
     assert_eq!(row("carol").status, "does not compile");
+    assert!(
+        row("carol").first_failure.starts_with("error"),
+        "{:?}",
+        row("carol")
+    );
     assert!(std::fs::read_to_string(out.join("carol.txt"))
         .unwrap()
         .contains("unclosed delimiter"));
