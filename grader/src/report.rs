@@ -253,34 +253,115 @@ pub fn json(cases: &[CaseReport], bonus: bool, protections: &str) -> String {
     .expect("reports serialize")
 }
 
-/// Gradescope's `results.json`: one test per case, one point each (bonus
-/// cases are worth points only with `--bonus`), with the case's text.
+/// Most lines of a case's report a Gradescope test shows, and most lines of
+/// the student's own output under it: enough to act on, short enough to read.
+const GRADESCOPE_REPORT_LINES: usize = 40;
+const GRADESCOPE_OUTPUT_LINES: usize = 20;
+
+/// Gradescope's `results.json`: one test per counted case, one point each.
+/// Hidden cases are `after_published` (their names and expected values stay
+/// out of sight until the TA publishes grades). Bonus cases are tests tagged
+/// `bonus` with their own point each when `bonus` is set (the TA sets the
+/// assignment's total to the other tests' sum, so they count as extra
+/// credit), else left out and named in the top-level output. A test's output
+/// is the case's warnings and details (not its progress lines) and the start
+/// of what the student's code printed.
 pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
-    let tests: Vec<_> = cases
-        .iter()
-        .map(|c| {
-            let mut output = String::new();
-            render_case(&mut output, c, false);
-            let max = if counts(c, bonus) { 1.0 } else { 0.0 };
-            json!({
-                "name": format!("{} ({})", c.name, c.stage.function()),
-                "score": if c.passed { max } else { 0.0 },
-                "max_score": max,
-                "status": if c.passed { "passed" } else { "failed" },
-                "output": output,
-                "visibility": "visible",
-            })
-        })
-        .collect();
+    let mut tests = Vec::new();
+    let mut left_out = 0;
+    for c in cases {
+        if !counts(c, bonus) {
+            left_out += 1;
+            continue;
+        }
+        let mut lines: Vec<String> = Vec::new();
+        for e in &c.entries {
+            match e.level {
+                Level::Info => {}
+                Level::Warn => lines.push(format!("[warn] {}", e.text)),
+                Level::Detail => lines.push(format!("    {}", e.text)),
+            }
+        }
+        if lines.len() > GRADESCOPE_REPORT_LINES {
+            let more = lines.len() - GRADESCOPE_REPORT_LINES;
+            lines.truncate(GRADESCOPE_REPORT_LINES);
+            lines.push(format!(
+                "... ({more} more lines: run the grader with --case {})",
+                c.name
+            ));
+        }
+        let mut output = if c.passed {
+            "passed\n".to_string()
+        } else {
+            lines.join("\n") + "\n"
+        };
+        let printed: Vec<&str> = c.output.trim_end().lines().collect();
+        if !c.output.trim().is_empty() {
+            output.push_str("your code printed:\n");
+            for l in printed.iter().take(GRADESCOPE_OUTPUT_LINES) {
+                let _ = writeln!(output, "| {l}");
+            }
+            if printed.len() > GRADESCOPE_OUTPUT_LINES {
+                let _ = writeln!(
+                    output,
+                    "| ... ({} more lines)",
+                    printed.len() - GRADESCOPE_OUTPUT_LINES
+                );
+            }
+        }
+        let function = c.stage.function();
+        let (name, visibility, tags) = match c.group {
+            Group::Lab => (
+                format!("{} ({function})", c.name),
+                "visible",
+                vec![function],
+            ),
+            Group::Hidden => (
+                format!("{} ({function}, hidden)", c.name),
+                "after_published",
+                vec![function, "hidden"],
+            ),
+            Group::Bonus => (
+                format!("{} ({function}, bonus)", c.name),
+                "visible",
+                vec![function, "bonus"],
+            ),
+        };
+        tests.push(json!({
+            "name": name,
+            "score": if c.passed { 1.0 } else { 0.0 },
+            "max_score": 1.0,
+            "status": if c.passed { "passed" } else { "failed" },
+            "output": output,
+            "output_format": "text",
+            "tags": tags,
+            "visibility": visibility,
+        }));
+    }
     let score: f64 = tests.iter().filter_map(|t| t["score"].as_f64()).sum();
-    let verdict = if all_passed(cases, bonus) {
-        "all tests passed, congratulations!"
+    let mut output = if all_passed(cases, bonus) {
+        "all tests passed, congratulations!".to_string()
     } else {
-        "test failed"
+        "test failed".to_string()
     };
+    let bonus_cases = cases.iter().filter(|c| c.group == Group::Bonus).count();
+    if left_out > 0 {
+        let _ = write!(
+            output,
+            "\n{left_out} bonus cases (meshes with boundary) are not graded here; \
+             run `cargo run -p grader -- --bonus` to try them"
+        );
+    } else if bonus_cases > 0 {
+        let _ = write!(output, "\n{bonus_cases} bonus cases count as extra credit");
+    }
+    if cases.iter().any(|c| c.group == Group::Hidden) {
+        let _ = write!(output, "\nhidden cases are shown once grades are published");
+    }
     serde_json::to_string_pretty(&json!({
         "score": score,
-        "output": verdict,
+        "output": output,
+        "output_format": "text",
+        "stdout_visibility": "hidden",
         "tests": tests,
     }))
     .expect("results serialize")

@@ -1,53 +1,154 @@
-//! Grading a whole class: each submission's `lib.rs` is built into a scratch
-//! copy of the lab (hidden cases included, solution left out) and graded;
-//! the reports land in one folder with a CSV summary.
+//! Grading a whole class: every entry of the submissions folder gets a row,
+//! whatever it is. Each submission's `lib.rs` is built into its own pristine
+//! copy of the lab (hidden cases included, solution left out), restored from
+//! a template at the same path each time so that cargo rebuilds only the
+//! student's crate and the grader; then graded within a time budget. The
+//! reports land in one folder with a CSV summary.
 
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use crate::handout::{self, Purpose};
 
-/// One student's file.
+/// The three functions, in grading order: (stage option, name, fixture kind).
+const FUNCTIONS: [(&str, &str); 3] = [
+    ("flip", "flip_edge"),
+    ("split", "split_edge"),
+    ("subdivide", "loop_subdivide"),
+];
+
+/// Folders of an upload that never hold the student's file.
+const SKIP_DIRS: [&str; 3] = ["target", ".git", "__MACOSX"];
+/// Crates of the lab other than the student's: their `lib.rs` is never taken.
+const OTHER_CRATES: [&str; 4] = ["halfedge", "grader", "reference", "crates"];
+
+/// One entry of the submissions folder.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Submission {
     pub name: String,
-    pub lib_rs: PathBuf,
+    /// The student's file, or why there is none.
+    pub lib_rs: Result<PathBuf, String>,
 }
 
-/// The submissions in `dir`: `NAME.rs`, `NAME/lib.rs`, or a whole workspace
-/// `NAME/crates/meshedit/src/lib.rs`. Anything else is named as an error,
-/// so no student is skipped silently.
-pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
-    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut out = Vec::new();
+/// Every `.rs` file under `dir`, relative, shallowest first.
+fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir.join(rel)) else {
+        return;
+    };
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
     paths.sort();
     for path in paths {
-        let name = path
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("")
-            .to_string();
-        if name.starts_with('.') {
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let rel_path = rel.join(&*name);
+        if path.is_dir() {
+            if !name.starts_with('.') && !SKIP_DIRS.contains(&&*name) {
+                rust_files(dir, &rel_path, out);
+            }
+        } else if name.ends_with(".rs") {
+            out.push(rel_path);
+        }
+    }
+}
+
+/// The student's `lib.rs` inside an uploaded folder: `meshedit/src/lib.rs`
+/// at any depth (the workspace, or the workspace inside one folder), else a
+/// single `lib.rs` outside any other crate of the lab, else the folder's
+/// only Rust file. Never another crate's `lib.rs`.
+pub fn find_lib_rs(dir: &Path) -> Result<PathBuf, String> {
+    let mut found = Vec::new();
+    rust_files(dir, Path::new(""), &mut found);
+    let parts = |p: &PathBuf| -> Vec<String> {
+        p.components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect()
+    };
+    let is_lib = |p: &&PathBuf| p.file_name().is_some_and(|n| n == "lib.rs");
+    let mut meshedit: Vec<&PathBuf> = found
+        .iter()
+        .filter(is_lib)
+        .filter(|p| parts(p).ends_with(&["meshedit".into(), "src".into(), "lib.rs".into()]))
+        .collect();
+    meshedit.sort_by_key(|p| (parts(p).len(), p.to_path_buf()));
+    match meshedit.as_slice() {
+        [one] => return Ok(dir.join(one)),
+        [a, b, ..] if parts(a).len() < parts(b).len() => return Ok(dir.join(a)),
+        [_, _, ..] => {
+            let list: Vec<String> = meshedit.iter().map(|p| p.display().to_string()).collect();
+            return Err(format!(
+                "several copies of meshedit/src/lib.rs: {}",
+                list.join(", ")
+            ));
+        }
+        [] => {}
+    }
+    let loose: Vec<&PathBuf> = found
+        .iter()
+        .filter(is_lib)
+        .filter(|p| {
+            let ps = parts(p);
+            !ps[..ps.len() - 1]
+                .iter()
+                .any(|c| OTHER_CRATES.contains(&c.as_str()))
+        })
+        .collect();
+    match loose.as_slice() {
+        [one] => return Ok(dir.join(one)),
+        [_, _, ..] => {
+            let list: Vec<String> = loose.iter().map(|p| p.display().to_string()).collect();
+            return Err(format!("several lib.rs files: {}", list.join(", ")));
+        }
+        [] => {}
+    }
+    if let [only] = found.as_slice() {
+        if parts(only).len() == 1 {
+            return Ok(dir.join(only));
+        }
+    }
+    let seen: Vec<String> = found
+        .iter()
+        .take(8)
+        .map(|p| p.display().to_string())
+        .collect();
+    Err(format!(
+        "no crates/meshedit/src/lib.rs inside (found: {})",
+        if seen.is_empty() {
+            "no .rs file".to_string()
+        } else {
+            seen.join(", ")
+        }
+    ))
+}
+
+/// The entries of `dir`, each with its file or the reason it has none:
+/// `NAME.rs`, a folder (see [`find_lib_rs`]), or anything else (named as not
+/// a submission). Only names starting with `.` are left out (`.DS_Store`).
+pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
+    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    let mut out = Vec::new();
+    for path in paths {
+        let file_name = path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        if file_name.starts_with('.') {
             continue;
         }
-        let lib_rs = if path.is_dir() {
-            [path.join("lib.rs"), path.join("crates/meshedit/src/lib.rs")]
-                .into_iter()
-                .find(|p| p.is_file())
-                .ok_or_else(|| {
-                    format!(
-                        "{}: no lib.rs or crates/meshedit/src/lib.rs inside",
-                        path.display()
-                    )
-                })?
-        } else if path.extension().is_some_and(|x| x == "rs") {
-            path.clone()
+        let (name, lib_rs) = if path.is_dir() {
+            (file_name.clone(), find_lib_rs(&path))
+        } else if let Some(stem) = file_name.strip_suffix(".rs") {
+            (stem.to_string(), Ok(path.clone()))
         } else {
-            return Err(format!(
-                "{}: not a submission (expected NAME.rs or a folder)",
-                path.display()
-            ));
+            let why = if file_name.ends_with(".zip") {
+                "a zip archive: unpack it into a folder of the same name".to_string()
+            } else {
+                "not a submission: expected NAME.rs or a folder".to_string()
+            };
+            (file_name.clone(), Err(why))
         };
         out.push(Submission { name, lib_rs });
     }
@@ -63,99 +164,462 @@ pub struct Row {
     pub name: String,
     pub score: f64,
     pub max: f64,
-    /// `passed`, `failed` or `does not compile`.
+    /// `passed`, `failed`, `does not compile`, `no submission`,
+    /// `out of time` or `grader error`.
     pub status: String,
+    /// Passed and counted cases per function, in [`FUNCTIONS`] order.
+    pub functions: [(usize, usize); 3],
+    /// The first failed case and its first warning (or why it was not graded).
+    pub first_failure: String,
+    /// Seconds spent on this submission.
+    pub seconds: f64,
 }
 
-/// Grades every submission in `submissions` into `out`: `NAME.txt` (the
-/// grader's report, or the compiler's errors), `NAME.results.json`
-/// (Gradescope's format) and `summary.csv`. Builds go to `target`.
+/// How to grade a class.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Seconds each case may run.
+    pub timeout: f64,
+    /// Seconds one submission may take to grade, all cases together.
+    pub budget: f64,
+    /// Count the bonus cases.
+    pub bonus: bool,
+    /// Cargo's target folder (shared by every submission).
+    pub target: PathBuf,
+    /// Print a progress line per submission on standard error.
+    pub progress: bool,
+}
+
+/// Counted cases per function in a fixtures folder.
+fn case_counts(fixtures: &Path, bonus: bool) -> [usize; 3] {
+    let mut counts = [0; 3];
+    let groups: &[&str] = if bonus {
+        &["lab", "hidden", "bonus"]
+    } else {
+        &["lab", "hidden"]
+    };
+    for group in groups {
+        for entry in std::fs::read_dir(fixtures.join(group))
+            .into_iter()
+            .flatten()
+        {
+            let Some(f) = entry
+                .ok()
+                .and_then(|e| std::fs::read_to_string(e.path()).ok())
+                .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            else {
+                continue;
+            };
+            if let Some(i) = FUNCTIONS
+                .iter()
+                .position(|(stage, _)| f["operation"]["kind"] == *stage)
+            {
+                counts[i] += 1;
+            }
+        }
+    }
+    counts
+}
+
+/// Copies `from` into `to` keeping modification times, so that cargo sees
+/// the restored lab as unchanged and rebuilds only what the student touched.
+fn copy_keeping_times(from: &Path, to: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(to).map_err(|e| format!("{}: {e}", to.display()))?;
+    for entry in std::fs::read_dir(from).map_err(|e| format!("{}: {e}", from.display()))? {
+        let path = entry.map_err(|e| e.to_string())?.path();
+        let target = to.join(path.file_name().expect("a name"));
+        if path.is_dir() {
+            copy_keeping_times(&path, &target)?;
+        } else {
+            std::fs::copy(&path, &target).map_err(|e| format!("{}: {e}", path.display()))?;
+            let modified = std::fs::metadata(&path)
+                .and_then(|m| m.modified())
+                .map_err(|e| e.to_string())?;
+            std::fs::File::options()
+                .write(true)
+                .open(&target)
+                .and_then(|f| f.set_modified(modified))
+                .map_err(|e| format!("{}: {e}", target.display()))?;
+        }
+    }
+    Ok(())
+}
+
+/// Runs `cmd` in its own process group with its output in files, killing
+/// the whole group at `limit` and when it ends (stray children included).
+/// Returns the exit code, `None` when stopped at the limit.
+fn run_limited(
+    mut cmd: Command,
+    stdout: &Path,
+    stderr: &Path,
+    limit: Duration,
+) -> Result<Option<i32>, String> {
+    let file = |p: &Path| std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()));
+    cmd.stdin(Stdio::null())
+        .stdout(file(stdout)?)
+        .stderr(file(stderr)?);
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::CommandExt;
+        cmd.process_group(0);
+    }
+    let mut child = cmd
+        .spawn()
+        .map_err(|e| format!("cannot run {:?}: {e}", cmd.get_program()))?;
+    let start = Instant::now();
+    let code = loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            break Some(status.code().unwrap_or(-1));
+        }
+        if start.elapsed() >= limit {
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    kill_group(child.id());
+    let _ = child.kill();
+    let _ = child.wait();
+    Ok(code)
+}
+
+#[cfg(unix)]
+fn kill_group(pid: u32) {
+    let _ = Command::new("kill")
+        .args(["-KILL", "--", &format!("-{pid}")])
+        .stderr(Stdio::null())
+        .status();
+}
+
+#[cfg(not(unix))]
+fn kill_group(_: u32) {}
+
+/// Cargo's output without its progress lines.
+fn compiler_text(stderr: &str) -> String {
+    stderr
+        .lines()
+        .filter(|l| {
+            let l = l.trim_start();
+            !["Compiling ", "Finished ", "Blocking ", "Locking "]
+                .iter()
+                .any(|p| l.starts_with(p))
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        .trim()
+        .to_string()
+}
+
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\"").replace('\n', " "))
+    } else {
+        text.to_string()
+    }
+}
+
+/// Results in Gradescope's format for a submission that was not graded.
+fn zero_results(message: &str, max: usize) -> String {
+    serde_json::to_string_pretty(&serde_json::json!({
+        "score": 0.0,
+        "output": message,
+        "tests": [{
+            "name": "your code compiles and can be graded",
+            "score": 0.0,
+            "max_score": max as f64,
+            "status": "failed",
+            "output": message,
+        }],
+    }))
+    .expect("JSON")
+}
+
+/// Grades every entry of `submissions` into `out`: `NAME.txt` (a short
+/// report), `NAME.log` (the build and every case in full),
+/// `NAME.results.json` (Gradescope's format) and `summary.csv`.
 pub fn grade_class(
     root: &Path,
     submissions: &Path,
     out: &Path,
-    target: &Path,
-    timeout: f64,
+    options: &Options,
 ) -> Result<Vec<Row>, String> {
     let students = find_submissions(submissions)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // Outside the lab (a copy may not land inside what it copies).
-    let workspace = std::env::temp_dir().join(format!("meshlab-class-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&workspace);
-    handout::copy_lab(root, &workspace, Purpose::Grading)?;
-    let student_file = workspace.join("crates/meshedit/src/lib.rs");
+    let scratch = std::env::temp_dir().join(format!("meshlab-class-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&scratch);
+    let template = scratch.join("template");
+    let work = scratch.join("work");
+    handout::copy_lab(root, &template, Purpose::Grading)?;
+    let counts = case_counts(&template.join("fixtures"), options.bonus);
+    let exe = options
+        .target
+        .join("debug")
+        .join(format!("grader{}", std::env::consts::EXE_SUFFIX));
 
+    let started = Instant::now();
     let mut rows = Vec::new();
-    for s in students {
-        std::fs::copy(&s.lib_rs, &student_file)
-            .map_err(|e| format!("{}: {e}", s.lib_rs.display()))?;
-        let report = out.join(format!("{}.txt", s.name));
-        let results = out.join(format!("{}.results.json", s.name));
-        let build = Command::new(env!("CARGO"))
-            .args(["build", "--quiet", "-p", "grader"])
-            .current_dir(&workspace)
-            .env("CARGO_TARGET_DIR", target)
-            .output()
-            .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if !build.status.success() {
-            std::fs::write(&report, &build.stderr).map_err(|e| e.to_string())?;
-            rows.push(Row {
-                name: s.name,
-                score: 0.0,
-                max: 0.0,
-                status: "does not compile".into(),
-            });
-            continue;
-        }
-        let exe = target
-            .join("debug")
-            .join(format!("grader{}", std::env::consts::EXE_SUFFIX));
-        let graded = Command::new(exe)
-            .args([
-                "--no-color",
-                "--timeout",
-                &timeout.to_string(),
-                "--gradescope",
-            ])
-            .arg(&results)
-            .current_dir(&workspace)
-            .output()
-            .map_err(|e| format!("cannot run the grader: {e}"))?;
-        std::fs::write(&report, &graded.stdout).map_err(|e| e.to_string())?;
-        let json: serde_json::Value = std::fs::read_to_string(&results)
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok())
-            .ok_or_else(|| {
-                format!(
-                    "{}: the grader wrote no results ({})",
-                    s.name,
-                    String::from_utf8_lossy(&graded.stderr).trim()
-                )
-            })?;
-        let max: f64 = json["tests"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .filter_map(|t| t["max_score"].as_f64())
-            .sum();
-        let status = if graded.status.code() == Some(0) {
-            "passed"
-        } else {
-            "failed"
+    for (i, s) in students.iter().enumerate() {
+        let t0 = Instant::now();
+        let row = grade_one(s, &template, &work, &out, &exe, counts, options)?;
+        let row = Row {
+            seconds: t0.elapsed().as_secs_f64(),
+            ..row
         };
-        rows.push(Row {
-            name: s.name,
-            score: json["score"].as_f64().unwrap_or(0.0),
-            max,
-            status: status.into(),
-        });
+        if options.progress {
+            let done = i + 1;
+            let left =
+                started.elapsed().as_secs_f64() / done as f64 * (students.len() - done) as f64;
+            eprintln!(
+                "[{done:>3}/{}] {:<20} {:>5}/{:<3} {:<16} {:>5.1} s  (about {:.0} s left)",
+                students.len(),
+                row.name,
+                row.score,
+                row.max,
+                row.status,
+                row.seconds,
+                left
+            );
+        }
+        rows.push(row);
     }
-    let mut csv = String::from("student,score,max_score,status\n");
+    let mut csv = String::from(
+        "student,score,max_score,status,flip_edge,split_edge,loop_subdivide,first_failure\n",
+    );
     for r in &rows {
-        csv.push_str(&format!("{},{},{},{}\n", r.name, r.score, r.max, r.status));
+        let f = |k: usize| format!("{}/{}", r.functions[k].0, r.functions[k].1);
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{}",
+            csv_field(&r.name),
+            r.score,
+            r.max,
+            r.status,
+            f(0),
+            f(1),
+            f(2),
+            csv_field(&r.first_failure)
+        );
     }
     std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
-    let _ = std::fs::remove_dir_all(&workspace);
+    let _ = std::fs::remove_dir_all(&scratch);
     Ok(rows)
+}
+
+/// Grades one entry; an error here is the TA's (disk, cargo missing), never
+/// the student's: a student's problem becomes the row's status.
+fn grade_one(
+    s: &Submission,
+    template: &Path,
+    work: &Path,
+    out: &Path,
+    exe: &Path,
+    counts: [usize; 3],
+    options: &Options,
+) -> Result<Row, String> {
+    let max: usize = counts.iter().sum();
+    let write = |ext: &str, text: &str| {
+        let path = out.join(format!("{}.{ext}", s.name));
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    let mut row = Row {
+        name: s.name.clone(),
+        score: 0.0,
+        max: max as f64,
+        status: String::new(),
+        functions: [(0, counts[0]), (0, counts[1]), (0, counts[2])],
+        first_failure: String::new(),
+        seconds: 0.0,
+    };
+    let not_graded = |row: &mut Row, status: &str, why: &str, log: &str| -> Result<(), String> {
+        row.status = status.into();
+        // The compiler's first error rather than the heading above it.
+        row.first_failure = why
+            .lines()
+            .find(|l| l.starts_with("error"))
+            .or_else(|| why.lines().next())
+            .unwrap_or("")
+            .to_string();
+        write(
+            "txt",
+            &format!("{}: {status} (0 of {max})\n\n{why}\n", s.name),
+        )?;
+        write("log", log)?;
+        write("results.json", &zero_results(why, max))
+    };
+    let lib_rs = match &s.lib_rs {
+        Ok(p) => p,
+        Err(why) => {
+            not_graded(&mut row, "no submission", why, why)?;
+            return Ok(row);
+        }
+    };
+
+    // A pristine copy for each student: nothing a previous submission did
+    // to its copy survives.
+    let _ = std::fs::remove_dir_all(work);
+    copy_keeping_times(template, work)?;
+    std::fs::copy(lib_rs, work.join("crates/meshedit/src/lib.rs"))
+        .map_err(|e| format!("{}: {e}", lib_rs.display()))?;
+
+    // Outside the copy the student's code runs in.
+    let logs = work.with_file_name("logs");
+    let _ = std::fs::remove_dir_all(&logs);
+    std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
+    let mut build = Command::new(handout::cargo());
+    build
+        .args(["build", "--offline", "--color", "never", "-p", "grader"])
+        .current_dir(work)
+        .env("CARGO_TARGET_DIR", &options.target);
+    let (build_out, build_err) = (logs.join("build.out"), logs.join("build.err"));
+    let code = run_limited(
+        build,
+        &build_out,
+        &build_err,
+        Duration::from_secs_f64(options.budget.max(60.0)),
+    )?;
+    let build_log = std::fs::read_to_string(&build_err).unwrap_or_default();
+    let compiler = compiler_text(&build_log);
+    match code {
+        Some(0) => {}
+        None => {
+            not_graded(
+                &mut row,
+                "does not compile",
+                "the build ran out of time",
+                &build_log,
+            )?;
+            return Ok(row);
+        }
+        Some(_) => {
+            let why = format!("does not compile:\n\n{compiler}");
+            not_graded(&mut row, "does not compile", &why, &build_log)?;
+            return Ok(row);
+        }
+    }
+
+    let results = logs.join("results.json");
+    let mut grade = Command::new(exe);
+    grade
+        .args(["--no-color", "--timeout", &options.timeout.to_string()])
+        .args(["--format", "json", "--gradescope"])
+        .arg(&results)
+        .current_dir(work);
+    if options.bonus {
+        grade.arg("--bonus");
+    }
+    let (json_out, grade_err) = (logs.join("report.json"), logs.join("grader.err"));
+    let code = run_limited(
+        grade,
+        &json_out,
+        &grade_err,
+        Duration::from_secs_f64(options.budget),
+    )?;
+    let report: Option<serde_json::Value> = std::fs::read_to_string(&json_out)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let (report, results_text) = match (code, report, std::fs::read_to_string(&results)) {
+        (Some(0 | 1), Some(r), Ok(t)) => (r, t),
+        (None, _, _) => {
+            let why = format!(
+                "grading took longer than {} s in all: a function loops or waits",
+                options.budget
+            );
+            not_graded(&mut row, "out of time", &why, &build_log)?;
+            return Ok(row);
+        }
+        (code, _, _) => {
+            let err = std::fs::read_to_string(&grade_err).unwrap_or_default();
+            let why = format!("the grader failed (exit {code:?}): {}", err.trim());
+            not_graded(&mut row, "grader error", &why, &why)?;
+            return Ok(row);
+        }
+    };
+
+    let cases = report["cases"].as_array().cloned().unwrap_or_default();
+    let bonus = report["bonus_counted"].as_bool().unwrap_or(false);
+    let mut full = String::new();
+    if !compiler.is_empty() {
+        let _ = writeln!(full, "compiler output:\n{compiler}\n");
+    }
+    let mut counted = [(0, 0); 3];
+    let mut failures = Vec::new();
+    for c in &cases {
+        let name = c["name"].as_str().unwrap_or("?");
+        let passed = c["passed"].as_bool().unwrap_or(false);
+        let is_counted = c["group"] != "bonus" || bonus;
+        let _ = writeln!(
+            full,
+            "== {name} ({}, {}): {}",
+            c["group"].as_str().unwrap_or("?"),
+            c["stage"].as_str().unwrap_or("?"),
+            if passed { "passed" } else { "FAILED" }
+        );
+        for e in c["entries"].as_array().into_iter().flatten() {
+            let level = e["level"].as_str().unwrap_or("info");
+            let text = e["text"].as_str().unwrap_or("");
+            match level {
+                "detail" => {
+                    let _ = writeln!(full, "        {text}");
+                }
+                _ => {
+                    let _ = writeln!(full, "[{level}] {text}");
+                }
+            }
+        }
+        if let Some(printed) = c["output"].as_str().filter(|o| !o.trim().is_empty()) {
+            for l in printed.trim_end().lines() {
+                let _ = writeln!(full, "    | {l}");
+            }
+        }
+        if !is_counted {
+            continue;
+        }
+        let stage = c["stage"].as_str().unwrap_or("");
+        if let Some(k) = FUNCTIONS.iter().position(|(s, _)| *s == stage) {
+            counted[k].1 += 1;
+            if passed {
+                counted[k].0 += 1;
+            }
+        }
+        if !passed {
+            let first = c["entries"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .find(|e| e["level"] == "warn")
+                .and_then(|e| e["text"].as_str())
+                .unwrap_or("failed");
+            failures.push(format!("{name}: {first}"));
+        }
+    }
+    let passed: usize = counted.iter().map(|c| c.0).sum();
+    let total: usize = counted.iter().map(|c| c.1).sum();
+    row.functions = counted;
+    row.score = passed as f64;
+    row.max = total as f64;
+    row.status = if passed == total { "passed" } else { "failed" }.into();
+    row.first_failure = failures.first().cloned().unwrap_or_default();
+
+    let mut short = format!("{}: {} ({passed} of {total})\n", s.name, row.status);
+    for (k, (_, function)) in FUNCTIONS.iter().enumerate() {
+        let _ = writeln!(short, "  {function:<15} {}/{}", counted[k].0, counted[k].1);
+    }
+    if compiler.contains("warning") {
+        let _ = writeln!(short, "\ncompiler warnings: see {}.log", s.name);
+    }
+    if !failures.is_empty() {
+        let _ = writeln!(short, "\nfailed cases:");
+        for f in failures.iter().take(10) {
+            let _ = writeln!(short, "  {f}");
+        }
+        if failures.len() > 10 {
+            let _ = writeln!(short, "  ... and {} more", failures.len() - 10);
+        }
+        let _ = writeln!(short, "\nthe full log: {}.log", s.name);
+    }
+    write("txt", &short)?;
+    write("log", &full)?;
+    write("results.json", &results_text)?;
+    Ok(row)
 }

@@ -120,8 +120,19 @@ enum Command {
         #[arg(short = 'o', long)]
         output: PathBuf,
     },
-    /// Write the student workspace (no solution, no hidden cases) to DIR.
-    Handout { dir: PathBuf },
+    /// Write the student workspace (no solution, no hidden cases, with the
+    /// GitHub Classroom workflow) to DIR.
+    Handout {
+        dir: PathBuf,
+        /// Refresh a handout given out before: fixtures, docs, grader and
+        /// library; the student's crates/meshedit is left as it is.
+        #[arg(long)]
+        update: bool,
+        /// Also write .github/classroom/autograding.json (Classroom's own
+        /// test list, one test per function).
+        #[arg(long)]
+        autograding: bool,
+    },
     /// Grade an implementation from the catalogue (default: the reference)
     /// with the grader; the grader's options follow.
     Grade {
@@ -131,22 +142,44 @@ enum Command {
         #[command(flatten)]
         grader: grader::Cli,
     },
-    /// Grade every submission in SUBMISSIONS (NAME.rs, NAME/lib.rs or
-    /// NAME/crates/meshedit/src/lib.rs), hidden cases included: writes
-    /// NAME.txt, NAME.results.json (Gradescope's format) and summary.csv.
+    /// Grade every entry of SUBMISSIONS (NAME.rs, or a folder holding lib.rs
+    /// or the workspace), hidden cases included: writes NAME.txt (short),
+    /// NAME.log (full), NAME.results.json (Gradescope's format) and
+    /// summary.csv. Builds go to $CARGO_TARGET_DIR, else target/class.
     Class {
         submissions: PathBuf,
         /// Where the reports go.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
         /// Seconds each case may run.
-        #[arg(long, default_value_t = 10.0)]
+        #[arg(long, default_value_t = 5.0)]
         timeout: f64,
+        /// Seconds one submission's grading may take, all cases together.
+        #[arg(long, default_value_t = 300.0)]
+        budget: f64,
+        /// Count the bonus cases.
+        #[arg(long)]
+        bonus: bool,
+        /// No progress lines.
+        #[arg(short, long)]
+        quiet: bool,
     },
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
     /// source/ (the lab with hidden cases, without the solution). Zip DIR's
     /// contents and upload.
-    Gradescope { dir: PathBuf },
+    Gradescope {
+        dir: PathBuf,
+        /// Count the bonus cases, as extra credit.
+        #[arg(long)]
+        bonus: bool,
+        /// Seconds a whole run may take; keep it below the assignment's
+        /// limit (Gradescope's default is 10 minutes).
+        #[arg(long, default_value_t = 480.0)]
+        budget: f64,
+        /// Seconds each case may take at most (less when the budget is short).
+        #[arg(long, default_value_t = 10.0)]
+        timeout: f64,
+    },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
     /// The child side of `grade`: runs one case sent on standard input
@@ -379,8 +412,28 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Command::Handout { dir } => {
-            let done = handout::export(&lab_root(), &dir)?;
+        Command::Handout {
+            dir,
+            update,
+            autograding,
+        } => {
+            if update {
+                let done = handout::update(&lab_root(), &dir, autograding)?;
+                for f in &done.written {
+                    println!("updated {f}");
+                }
+                for f in &done.removed {
+                    println!("removed {f}");
+                }
+                println!(
+                    "{}: {} files updated, {} removed; crates/meshedit left as it was",
+                    dir.display(),
+                    done.written.len(),
+                    done.removed.len()
+                );
+                return Ok(ExitCode::SUCCESS);
+            }
+            let done = handout::export(&lab_root(), &dir, autograding)?;
             println!(
                 "wrote the student workspace to {} ({} files)",
                 dir.display(),
@@ -409,8 +462,28 @@ fn run(command: Command) -> Result<ExitCode, String> {
             grader::child::serve(&entry.imp)
         }
         Command::Bench { runs } => bench(runs.max(1)),
-        Command::Gradescope { dir } => {
-            handout::gradescope(&lab_root(), &dir)?;
+        Command::Gradescope {
+            dir,
+            bonus,
+            budget,
+            timeout,
+        } => {
+            for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
+                if !(value > 0.0 && value <= 86_400.0) {
+                    return Err(format!(
+                        "{option} must be a number of seconds, above 0 and at most a day"
+                    ));
+                }
+            }
+            if budget < 120.0 {
+                return Err("--budget must leave time to build: at least 120 seconds".into());
+            }
+            let options = handout::GradescopeOptions {
+                bonus,
+                budget,
+                timeout,
+            };
+            handout::gradescope(&lab_root(), &dir, options)?;
             println!(
                 "wrote {}: zip its contents (setup.sh at the top) and upload them",
                 dir.display()
@@ -421,15 +494,35 @@ fn run(command: Command) -> Result<ExitCode, String> {
             submissions,
             out,
             timeout,
+            budget,
+            bonus,
+            quiet,
         } => {
-            if !(timeout > 0.0 && timeout.is_finite()) {
-                return Err("--timeout must be a positive number of seconds".into());
+            for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
+                if !(value > 0.0 && value <= 86_400.0) {
+                    return Err(format!(
+                        "{option} must be a number of seconds, above 0 and at most a day"
+                    ));
+                }
             }
-            let target = lab_root().join("target").join("class");
-            let rows =
-                reference::class::grade_class(&lab_root(), &submissions, &out, &target, timeout)?;
+            // Absolute: cargo runs in the scratch copy, not here.
+            let here = std::env::current_dir().map_err(|e| e.to_string())?;
+            let target = std::env::var_os("CARGO_TARGET_DIR")
+                .map(|t| here.join(t))
+                .unwrap_or_else(|| lab_root().join("target").join("class"));
+            let options = reference::class::Options {
+                timeout,
+                budget,
+                bonus,
+                target,
+                progress: !quiet,
+            };
+            let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;
             for r in &rows {
-                println!("{:<24} {:>5} / {:<5} {}", r.name, r.score, r.max, r.status);
+                println!(
+                    "{:<24} {:>5} / {:<5} {:<16} {}",
+                    r.name, r.score, r.max, r.status, r.first_failure
+                );
             }
             println!(
                 "wrote {} reports and {}",

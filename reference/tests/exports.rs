@@ -1,0 +1,666 @@
+//! The TA's copies of the lab, end to end: the student export (and its
+//! update and GitHub Classroom workflow), the Gradescope bundle run on six
+//! kinds of upload, and class grading of a folder with good, broken, stray
+//! and hostile entries.
+//!
+//! Every build here goes to one shared target folder, `target/ta-tests`, so
+//! dependencies compile once; the tests take turns (one lock) because each
+//! builds a `grader` binary with different student code into that folder.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+static BUILDS: Mutex<()> = Mutex::new(());
+
+/// The lock on the shared target folder (a failed test must not block the
+/// others, so a poisoned lock is taken anyway).
+fn take_turn() -> MutexGuard<'static, ()> {
+    BUILDS.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+fn root() -> PathBuf {
+    reference::lab_root()
+}
+
+fn target() -> PathBuf {
+    root().join("target/ta-tests")
+}
+
+/// A fresh, empty temporary folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("reference-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+struct Ran {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn reference(args: &[&str]) -> Ran {
+    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .args(args)
+        .output()
+        .expect("the reference binary runs");
+    Ran {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+fn solution() -> String {
+    std::fs::read_to_string(root().join("reference/src/solution.rs")).unwrap()
+}
+
+fn stubs() -> String {
+    std::fs::read_to_string(root().join("crates/meshedit/src/lib.rs")).unwrap()
+}
+
+/// The model solution whose `loop_subdivide` starts `sleep 1000` (holding
+/// the output pipes) and then never returns.
+fn hostile() -> String {
+    solution().replace("pub fn loop_subdivide(", "pub fn loop_subdivide_model(")
+        + r#"
+pub fn loop_subdivide(_mesh: &mut Mesh) {
+    let _ = std::process::Command::new("sleep").arg("1000").spawn();
+    loop {
+        std::thread::sleep(std::time::Duration::from_secs(1));
+    }
+}
+"#
+}
+
+fn write(path: &Path, text: &str) {
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(path, text).unwrap();
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}\n{text}", path.display()))
+}
+
+fn tests_of(results: &serde_json::Value) -> Vec<serde_json::Value> {
+    results["tests"].as_array().cloned().unwrap_or_default()
+}
+
+fn sum(tests: &[serde_json::Value], key: &str) -> f64 {
+    tests.iter().map(|t| t[key].as_f64().unwrap_or(0.0)).sum()
+}
+
+/// Counted (lab + hidden) cases per fixture kind in the lab.
+fn counted(kind: &str) -> usize {
+    ["lab", "hidden"]
+        .iter()
+        .flat_map(|g| std::fs::read_dir(root().join("fixtures").join(g)).unwrap())
+        .map(|e| json(&e.unwrap().path()))
+        .filter(|f| f["operation"]["kind"] == kind)
+        .count()
+}
+
+#[test]
+fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
+    let _turn = take_turn();
+    let dir = scratch("handout").join("lab");
+    let r = reference(&["handout", dir.to_str().unwrap(), "--autograding"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let all = reference::handout::list_files(&dir).unwrap();
+    for gone in [
+        "reference/",
+        "fixtures/hidden/",
+        "docs/ta-guide.md",
+        ".git/",
+        "target/",
+        ".ci/",
+    ] {
+        assert!(
+            !all.iter().any(|f| f.starts_with(gone)),
+            "{gone} was exported"
+        );
+    }
+    for kept in [
+        "Cargo.toml",
+        "Cargo.lock",
+        "README.md",
+        "rust-toolchain.toml",
+        "docs/architecture.md",
+        "crates/meshedit/src/lib.rs",
+        "grader/src/main.rs",
+        "fixtures/lab/cube-subdivide-1.json",
+        "fixtures/bonus/grid-subdivide-1.json",
+        ".github/workflows/classroom.yml",
+        ".github/classroom/points.py",
+        ".github/classroom/autograding.json",
+    ] {
+        assert!(all.iter().any(|f| f == kept), "{kept} is missing");
+    }
+    // No trace of the solution or of TA material in any text file.
+    for f in &all {
+        let Ok(text) = std::fs::read_to_string(dir.join(f)) else {
+            continue;
+        };
+        for marker in [
+            "relink_flip",
+            "fn vertex_points",
+            "fn flip_old_new",
+            "subdivision_mistakes",
+            "\"reference\"",
+            "-p reference",
+            "mutants",
+            "<!-- ta -->",
+        ] {
+            assert!(!text.contains(marker), "{f} contains {marker:?}");
+        }
+    }
+    for doc in all.iter().filter(|f| f.ends_with(".md")) {
+        let text = std::fs::read_to_string(dir.join(doc)).unwrap();
+        assert!(
+            !text.contains("reference/") && !text.contains("ta-guide"),
+            "{doc} points students at TA material"
+        );
+    }
+    let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+    assert!(
+        !manifest.contains("insta"),
+        "TA-only dependency: {manifest}"
+    );
+    let student = std::fs::read_to_string(dir.join("crates/meshedit/src/lib.rs")).unwrap();
+    assert_eq!(student.matches("todo!(").count(), 3, "the three stubs");
+
+    // The lock file is the lab's, less what only the TA tool uses: every
+    // package keeps its version, and cargo finds nothing to change.
+    let lab_lock = std::fs::read_to_string(root().join("Cargo.lock")).unwrap();
+    let lock = std::fs::read_to_string(dir.join("Cargo.lock")).unwrap();
+    assert!(!lock.contains("name = \"insta\""));
+    for block in lock.split("\n\n").filter(|b| b.contains("[[package]]")) {
+        assert!(lab_lock.contains(block.trim()), "changed: {block}");
+    }
+    let meta = Command::new(env!("CARGO"))
+        .args([
+            "metadata",
+            "--locked",
+            "--offline",
+            "--format-version",
+            "1",
+            "--no-deps",
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        meta.status.success(),
+        "{}",
+        String::from_utf8_lossy(&meta.stderr)
+    );
+
+    // Exporting into a folder that has files is refused, naming --update.
+    let again = reference(&["handout", dir.to_str().unwrap()]);
+    assert_eq!(again.code, 2);
+    assert!(again.stderr.contains("exists and is not empty"));
+    assert!(again.stderr.contains("--update"));
+
+    // It builds --locked, and its grader fails the stubs cleanly.
+    let cargo = |args: &[&str]| {
+        Command::new(env!("CARGO"))
+            .args(args)
+            .current_dir(&dir)
+            .env("CARGO_TARGET_DIR", target())
+            .env("RUST_BACKTRACE", "1")
+            .output()
+            .unwrap()
+    };
+    let out = cargo(&[
+        "run",
+        "--locked",
+        "--offline",
+        "--quiet",
+        "-p",
+        "grader",
+        "--",
+        "--no-color",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
+    assert!(
+        stdout.trim_end().ends_with("[warn] test failed"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("flip_edge panicked: not yet implemented"),
+        "{stdout}"
+    );
+    assert!(
+        !stdout.contains("hidden") && !stdout.contains("icosphere"),
+        "no hidden cases in the handout"
+    );
+    assert!(!stderr.contains("panicked at"), "{stderr}");
+
+    // The Classroom workflow: valid YAML, and each command it runs exists
+    // and succeeds on the model solution, giving every point.
+    std::fs::write(dir.join("crates/meshedit/src/lib.rs"), solution()).unwrap();
+    let steps = workflow_steps(&dir.join(".github/workflows/classroom.yml"));
+    let outputs = dir.join("github_output");
+    let mut graded = 0;
+    for (name, run) in &steps {
+        let program = run.split_whitespace().next().unwrap();
+        let which = Command::new("sh")
+            .args(["-c", &format!("command -v {program}")])
+            .output()
+            .unwrap();
+        assert!(which.status.success(), "step {name}: no {program}");
+        if program == "rustup" {
+            // Installing a toolchain needs the network; the pin is checked below.
+            continue;
+        }
+        let out = Command::new("bash")
+            .args(["-eo", "pipefail", "-c", run])
+            .current_dir(&dir)
+            .env("CARGO_TARGET_DIR", target())
+            .env("GITHUB_OUTPUT", &outputs)
+            .env("GITHUB_STEP_SUMMARY", dir.join("summary"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "step {name} failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        graded += run.contains("points.py") as usize;
+    }
+    assert_eq!(graded, 3, "one grading step per function");
+    let results: Vec<serde_json::Value> = std::fs::read_to_string(&outputs)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            use std::io::Read;
+            let encoded = l.strip_prefix("result=").expect("result=...");
+            let mut bytes = Vec::new();
+            base64_decode(encoded)
+                .as_slice()
+                .read_to_end(&mut bytes)
+                .unwrap();
+            serde_json::from_slice(&bytes).unwrap()
+        })
+        .collect();
+    assert_eq!(results.len(), 3);
+    for r in &results {
+        assert_eq!(r["status"], "pass", "{r}");
+        assert!(r["max_score"].as_u64().unwrap() > 0);
+        let score: u64 = r["tests"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t["score"].as_u64().unwrap())
+            .sum();
+        assert_eq!(Some(score), r["max_score"].as_u64(), "{r}");
+    }
+    let yml = std::fs::read_to_string(dir.join(".github/workflows/classroom.yml")).unwrap();
+    let version = reference::handout::rust_version(&root()).unwrap();
+    assert!(
+        yml.contains(&format!("RUSTUP_TOOLCHAIN: \"{version}\"")),
+        "{yml}"
+    );
+    let auto = json(&dir.join(".github/classroom/autograding.json"));
+    let points: u64 = auto["tests"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["points"].as_u64().unwrap())
+        .sum();
+    assert_eq!(
+        points as usize,
+        std::fs::read_dir(root().join("fixtures/lab"))
+            .unwrap()
+            .count()
+    );
+
+    // --update refreshes fixtures and docs, removes a dropped case and
+    // leaves the student's work alone.
+    let student_code = "// my work\n".to_string() + &solution();
+    std::fs::write(dir.join("crates/meshedit/src/lib.rs"), &student_code).unwrap();
+    std::fs::write(dir.join("crates/meshedit/src/notes.rs"), "// mine").unwrap();
+    std::fs::write(dir.join("fixtures/lab/cube-split.json"), "{}").unwrap();
+    std::fs::write(dir.join("fixtures/lab/old-case.json"), "{}").unwrap();
+    std::fs::remove_file(dir.join("docs/architecture.md")).unwrap();
+    let r = reference(&["handout", dir.to_str().unwrap(), "--update"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stdout.contains("updated fixtures/lab/cube-split.json"),
+        "{}",
+        r.stdout
+    );
+    assert!(
+        r.stdout.contains("updated docs/architecture.md"),
+        "{}",
+        r.stdout
+    );
+    assert!(
+        r.stdout.contains("removed fixtures/lab/old-case.json"),
+        "{}",
+        r.stdout
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("crates/meshedit/src/lib.rs")).unwrap(),
+        student_code
+    );
+    assert!(dir.join("crates/meshedit/src/notes.rs").is_file());
+    assert_eq!(
+        std::fs::read(dir.join("fixtures/lab/cube-split.json")).unwrap(),
+        std::fs::read(root().join("fixtures/lab/cube-split.json")).unwrap()
+    );
+    let r = reference(&[
+        "handout",
+        root().join("crates").to_str().unwrap(),
+        "--update",
+    ]);
+    assert_eq!(r.code, 2);
+    assert!(r.stderr.contains("is not a handout"), "{}", r.stderr);
+    std::fs::remove_dir_all(dir.parent().unwrap()).unwrap();
+}
+
+/// The `run:` commands of a workflow's steps, by step name (the file must
+/// parse as YAML: checked with Python's yaml module, as GitHub would).
+fn workflow_steps(path: &Path) -> Vec<(String, String)> {
+    let script = "import json, sys, yaml\n\
+        w = yaml.safe_load(open(sys.argv[1]))\n\
+        steps = [s for job in w['jobs'].values() for s in job['steps']]\n\
+        assert all('uses' in s or 'run' in s for s in steps)\n\
+        print(json.dumps([[s['name'], s['run']] for s in steps if 'run' in s]))";
+    let out = Command::new("python3")
+        .args(["-c", script])
+        .arg(path)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "the workflow does not parse: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice::<Vec<(String, String)>>(&out.stdout).unwrap()
+}
+
+fn base64_decode(text: &str) -> Vec<u8> {
+    let out = Command::new("python3")
+        .args([
+            "-c",
+            "import base64, sys; sys.stdout.buffer.write(base64.b64decode(sys.argv[1]))",
+        ])
+        .arg(text)
+        .output()
+        .unwrap();
+    out.stdout
+}
+
+#[test]
+fn the_gradescope_bundle_grades_every_kind_of_upload() {
+    let _turn = take_turn();
+    let dir = scratch("gradescope");
+    let ag = dir.join("autograder");
+    let r = reference(&["gradescope", ag.to_str().unwrap()]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        ag.join("source/fixtures/hidden").is_dir(),
+        "hidden cases graded"
+    );
+    assert!(
+        !ag.join("source/reference").exists(),
+        "no solution on the server"
+    );
+    let setup = std::fs::read_to_string(ag.join("setup.sh")).unwrap();
+    let version = reference::handout::rust_version(&root()).unwrap();
+    assert!(
+        setup.contains(&format!("RUST_VERSION=\"{version}\"")),
+        "{setup}"
+    );
+    assert!(setup.contains("chmod -R go-rwx fixtures/hidden"));
+    let script = std::fs::read_to_string(ag.join("run_autograder")).unwrap();
+    assert!(!script.contains('@'), "every setting filled in");
+
+    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
+    let grade = |files: &[(&str, String)], budget: Option<u32>| {
+        let _ = std::fs::remove_dir_all(ag.join("submission"));
+        std::fs::create_dir_all(ag.join("submission")).unwrap();
+        for (rel, text) in files {
+            write(&ag.join("submission").join(rel), text);
+        }
+        let mut cmd = Command::new(ag.join("run_autograder"));
+        cmd.env("AUTOGRADER", &ag).env("CARGO_TARGET_DIR", target());
+        if let Some(b) = budget {
+            cmd.env("MESHLAB_BUDGET", b.to_string())
+                .env("MESHLAB_CASE_TIMEOUT", "1");
+        }
+        let start = Instant::now();
+        let out = cmd.output().unwrap();
+        let took = start.elapsed();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        (
+            json(&ag.join("results/results.json")),
+            took,
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+
+    // The model solution alone: full marks, hidden cases after publication.
+    let (good, _, log) = grade(&[("lib.rs", solution())], None);
+    let tests = tests_of(&good);
+    assert_eq!(sum(&tests, "max_score"), max, "{log}");
+    assert_eq!(good["score"].as_f64(), Some(max), "{good}");
+    let hidden = tests
+        .iter()
+        .filter(|t| t["visibility"] == "after_published")
+        .count();
+    assert_eq!(
+        hidden,
+        std::fs::read_dir(root().join("fixtures/hidden"))
+            .unwrap()
+            .count()
+    );
+    assert!(tests
+        .iter()
+        .filter(|t| t["visibility"] != "after_published")
+        .all(|t| !t["name"].as_str().unwrap().contains("hidden")));
+    assert!(
+        !tests
+            .iter()
+            .any(|t| t["name"].as_str().unwrap().contains("grid-")),
+        "no bonus"
+    );
+    assert!(good["execution_time"].as_u64().is_some());
+
+    // A whole workspace: the student's file, never another crate's lib.rs
+    // (which sorts first).
+    let workspace = [
+        (
+            "crates/halfedge/src/lib.rs",
+            "pub fn nothing() {}".to_string(),
+        ),
+        ("crates/meshedit/src/lib.rs", solution()),
+        ("grader/src/lib.rs", "this is not Rust".to_string()),
+        ("Cargo.toml", "[workspace]".to_string()),
+    ];
+    let (ws, _, log) = grade(&workspace, None);
+    assert_eq!(ws["score"].as_f64(), Some(max), "{log}\n{ws}");
+
+    // The same inside one folder, as a zip of the folder unpacks.
+    let nested: Vec<(String, String)> = workspace
+        .iter()
+        .map(|(p, t)| (format!("lab-2026/{p}"), t.clone()))
+        .collect();
+    let nested: Vec<(&str, String)> = nested
+        .iter()
+        .map(|(p, t)| (p.as_str(), t.clone()))
+        .collect();
+    let (nest, _, _) = grade(&nested, None);
+    assert_eq!(nest["score"].as_f64(), Some(max), "{nest}");
+
+    // The stubs: zero, every case reported.
+    let (stub, _, _) = grade(&[("crates/meshedit/src/lib.rs", stubs())], None);
+    assert_eq!(stub["score"].as_f64(), Some(0.0));
+    assert_eq!(sum(&tests_of(&stub), "max_score"), max);
+
+    // A compile error: zero out of the full score, with the compiler's words.
+    let (broken, _, _) = grade(&[("lib.rs", "pub fn flip_edge( {\n".into())], None);
+    assert_eq!(broken["score"].as_f64(), Some(0.0));
+    assert_eq!(sum(&tests_of(&broken), "max_score"), max);
+    let output = broken["output"].as_str().unwrap();
+    assert!(
+        output.starts_with("Your code does not compile:"),
+        "{output}"
+    );
+    assert!(output.contains("unclosed delimiter"), "{output}");
+    assert!(!output.contains("Compiling "), "{output}");
+
+    // A warning is shown, the grade is unaffected.
+    let warned = solution() + "\nfn unused_helper() {}\n";
+    let (warn, _, _) = grade(&[("lib.rs", warned)], None);
+    assert_eq!(warn["score"].as_f64(), Some(max));
+    assert!(
+        warn["output"].as_str().unwrap().contains("unused_helper"),
+        "{}",
+        warn["output"]
+    );
+
+    // Only another crate's file: refused, saying what was expected.
+    let (none, _, _) = grade(&[("crates/halfedge/src/lib.rs", solution())], None);
+    assert_eq!(none["score"].as_f64(), Some(0.0));
+    assert!(
+        none["output"]
+            .as_str()
+            .unwrap()
+            .contains("No crates/meshedit/src/lib.rs in your upload"),
+        "{none}"
+    );
+
+    // Hostile: loop_subdivide spawns `sleep 1000` and never returns. The
+    // run ends within its budget; flips and splits still earn their points.
+    let budget = 45;
+    let (bad, took, log) = grade(&[("lib.rs", hostile())], Some(budget));
+    assert!(
+        took < Duration::from_secs(budget as u64 + 10),
+        "{took:?}\n{log}"
+    );
+    let tests = tests_of(&bad);
+    let earned = |function: &str| {
+        tests
+            .iter()
+            .filter(|t| t["name"].as_str().unwrap().contains(function))
+            .map(|t| t["score"].as_f64().unwrap())
+            .sum::<f64>()
+    };
+    assert_eq!(earned("flip_edge"), counted("flip") as f64, "{log}");
+    assert_eq!(earned("split_edge"), counted("split") as f64, "{log}");
+    assert_eq!(earned("loop_subdivide"), 0.0, "{log}");
+    assert_eq!(sum(&tests, "max_score"), max, "{log}\n{bad}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_class_folder_gets_a_row_for_every_entry() {
+    let _turn = take_turn();
+    let dir = scratch("class");
+    let subs = dir.join("submissions");
+    write(&subs.join("alice.rs"), &stubs());
+    // The workspace inside one folder, with other crates' lib.rs around.
+    write(
+        &subs.join("bob/lab/crates/meshedit/src/lib.rs"),
+        &solution(),
+    );
+    write(&subs.join("bob/lab/crates/halfedge/src/lib.rs"), "broken {");
+    write(&subs.join("carol.rs"), "pub fn flip_edge( {\n");
+    std::fs::create_dir_all(subs.join("dave")).unwrap();
+    write(&subs.join("notes.txt"), "grading notes");
+    write(&subs.join("mallory.rs"), &hostile());
+    let out = dir.join("out");
+    let options = reference::class::Options {
+        timeout: 1.0,
+        budget: 8.0,
+        bonus: false,
+        target: target(),
+        progress: false,
+    };
+    let start = Instant::now();
+    let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
+    let took = start.elapsed();
+    let names: Vec<&str> = rows.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["alice", "bob", "carol", "dave", "mallory", "notes.txt"]
+    );
+    let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
+    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
+
+    assert_eq!((row("alice").score, row("alice").max), (0.0, max));
+    assert_eq!(row("alice").status, "failed");
+    assert!(
+        row("alice").first_failure.contains("not yet implemented"),
+        "{:?}",
+        row("alice")
+    );
+    let bob = row("bob");
+    assert_eq!(
+        (bob.score, bob.max, bob.status.as_str()),
+        (max, max, "passed"),
+        "{}",
+        std::fs::read_to_string(out.join("bob.log")).unwrap()
+    );
+    assert_eq!(bob.functions[0], (counted("flip"), counted("flip")));
+    assert_eq!((row("carol").score, row("carol").max), (0.0, max));
+    assert_eq!(row("carol").status, "does not compile");
+    assert!(
+        row("carol").first_failure.starts_with("error"),
+        "{:?}",
+        row("carol")
+    );
+    assert!(std::fs::read_to_string(out.join("carol.txt"))
+        .unwrap()
+        .contains("unclosed delimiter"));
+    assert_eq!(row("dave").status, "no submission");
+    assert!(row("dave")
+        .first_failure
+        .contains("no crates/meshedit/src/lib.rs inside"));
+    assert_eq!(row("notes.txt").status, "no submission");
+    assert_eq!(row("mallory").score, 0.0);
+    assert_eq!(row("mallory").status, "out of time");
+    assert!(row("mallory").seconds < 30.0, "{:?}", row("mallory"));
+    assert!(took < Duration::from_secs(180), "{took:?}");
+
+    // Reports: short, full, Gradescope's; hidden cases graded.
+    let short = std::fs::read_to_string(out.join("alice.txt")).unwrap();
+    assert!(short.lines().count() < 30, "{short}");
+    assert!(std::fs::read_to_string(out.join("alice.log"))
+        .unwrap()
+        .contains("icosphere"));
+    for name in names {
+        let results = json(&out.join(format!("{name}.results.json")));
+        assert!(results["score"].as_f64().is_some(), "{name}: {results}");
+    }
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(csv.starts_with(
+        "student,score,max_score,status,flip_edge,split_edge,loop_subdivide,first_failure\n"
+    ));
+    assert!(
+        csv.contains(&format!("\ncarol,0,{max},does not compile,0/")),
+        "{csv}"
+    );
+    assert!(
+        csv.contains(&format!(
+            "\nbob,{max},{max},passed,{0}/{0},",
+            counted("flip")
+        )),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 7, "{csv}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
