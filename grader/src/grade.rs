@@ -41,6 +41,13 @@ pub struct CaseReport {
     pub entries: Vec<Entry>,
     /// What the student's code printed while it ran.
     pub output: String,
+    /// The input as sent on the labelling reported (the first that failed,
+    /// else the mesh as built), for pictures and OBJ files.
+    #[serde(skip)]
+    pub input: Option<halfedge::Mesh>,
+    /// The mesh the student's function left, when it returned.
+    #[serde(skip)]
+    pub result: Option<halfedge::Mesh>,
 }
 
 struct Log {
@@ -112,6 +119,8 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         passed: log.passed,
         entries: log.entries,
         output: child.output.clone(),
+        input: None,
+        result: None,
     }
 }
 

@@ -21,7 +21,7 @@
 //! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
 //! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
 //! [`child::serve`] with the student's functions). Tests run other
-//! implementations through the reference's own child program.
+//! implementations through the same protocol.
 
 #[cfg(not(unix))]
 compile_error!(
@@ -33,6 +33,7 @@ pub mod child;
 pub mod digest;
 pub mod fixture;
 pub mod grade;
+pub mod html;
 pub mod matching;
 pub mod relabel;
 pub mod report;
@@ -125,6 +126,11 @@ pub struct Cli {
     /// per case, fixed]; a failure prints the seed that shows it.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// Also write, for every case, the input, your result and the expected
+    /// result as OBJ files and an index.html with pictures, into DIR
+    /// [default: target/grader-report].
+    #[arg(long, value_name = "DIR", num_args = 0..=1, default_missing_value = "target/grader-report")]
+    pub report: Option<PathBuf>,
     /// Show every bonus case in full, even when they do not count.
     #[arg(short, long)]
     pub verbose: bool,
@@ -295,8 +301,14 @@ fn grade_case(
         if protections.is_none() {
             *protections = raw.sandbox.clone();
         }
+        let mut result = None;
         let run = match raw.exit {
-            Exit::Finished(ran) => Run::Done(child::analyze(op, &l.mesh, ran)),
+            Exit::Finished(ran) => {
+                if let wire::Ran::Returned { mesh, .. } = &ran {
+                    result = Some(mesh.clone());
+                }
+                Run::Done(child::analyze(op, &l.mesh, ran))
+            }
             Exit::TimedOut(d) => Run::TimedOut(d),
             Exit::StuckBeforeCall(d) => Run::StuckBeforeCall(d),
             Exit::StackOverflow => Run::StackOverflow,
@@ -316,6 +328,8 @@ fn grade_case(
                 output: raw.output,
             },
         );
+        report.input = Some(l.mesh.clone());
+        report.result = result;
         if !report.passed {
             if i > 0 {
                 grade::note_labelling(&mut report, f, l, i, labellings.len(), seed);
@@ -462,6 +476,17 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         .map(sandbox::describe_status)
         .unwrap_or_else(|| "protections: unknown (no case reported them)".into());
     let protections_json = protections.clone();
+    let report_path = match &cli.report {
+        None => None,
+        Some(dir) => {
+            let pairs: Vec<(&Fixture, &grade::CaseReport)> =
+                cases.iter().map(|c| c.fixture).zip(&reports).collect();
+            match html::write_report(dir, &pairs) {
+                Ok(index) => Some(index),
+                Err(e) => return usage_error(&format!("cannot write the report: {e}")),
+            }
+        }
+    };
 
     let output = match cli.format {
         Format::Text => report::text(
@@ -473,6 +498,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                 verbose: cli.verbose,
                 quiet: cli.quiet,
                 partial: partial_run(cli),
+                report: report_path.as_ref().map(|p| p.display().to_string()),
             },
         ),
         Format::Json => report::json(&reports, bonus, &protections_json),

@@ -68,6 +68,8 @@ pub struct TextOptions {
     /// run that graded only part: it never ends with the lab's
     /// congratulations.
     pub partial: Option<String>,
+    /// Where `--report` wrote its index.html, said above the verdict.
+    pub report: Option<String>,
 }
 
 /// At most this many failing cases are listed in the summary.
@@ -196,6 +198,16 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             color,
         );
     }
+    if let Some(index) = &opts.report {
+        log_line(
+            out,
+            file!(),
+            line!(),
+            false,
+            &format!("pictures of every case: open {index} in a browser"),
+            color,
+        );
+    }
     if let Some(first) = failed.first() {
         log_line(
             out,
@@ -203,7 +215,7 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             line!(),
             false,
             &format!(
-                "next: fix {} first, then run it alone: cargo run -p grader -- --case {}",
+                "next: fix {} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
                 first.stage.function(),
                 first.name
             ),

@@ -184,7 +184,7 @@ fn bonus_cases_count_only_when_asked() {
     let tail: Vec<&str> = counted.stdout.lines().rev().take(3).collect();
     assert!(tail[0].ends_with("[warn] test failed"), "{tail:?}");
     assert!(
-        tail[1].ends_with("[info] next: fix split_edge first, then run it alone: cargo run -p grader -- --case grid-split-boundary"),
+        tail[1].ends_with("[info] next: fix split_edge first; see that case alone, with pictures: cargo run -p grader -- --case grid-split-boundary --report"),
         "{tail:?}"
     );
     assert!(
