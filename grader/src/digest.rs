@@ -89,8 +89,8 @@ pub fn read_sums(dir: &Path) -> Result<Vec<(String, String)>, String> {
     let path = dir.join(SUMS_FILE);
     let text = std::fs::read_to_string(&path).map_err(|e| {
         format!(
-            "{}: cannot read the digest list ({e}): regenerate the fixtures \
-             (cargo run -p reference -- fixtures) or restore the folder",
+            "{}: cannot read the digest list ({e}): restore the folder \
+             (git checkout fixtures/) or ask a TA",
             path.display()
         )
     })?;

@@ -486,8 +486,8 @@ pub fn check_digests(root: &Path) -> Result<(), FixtureError> {
                 return Err(err(
                     path.clone(),
                     format!(
-                        "is not in {}: a fixture added by hand? Add cases with \
-                         `cargo run -p reference -- add`, or ask a TA",
+                        "is not in {}: a fixture added by hand? Remove it, or ask a TA \
+                         (the TAs' tool adds cases)",
                         digest::SUMS_FILE
                     ),
                 ));

@@ -39,6 +39,7 @@ pub mod relabel;
 pub mod report;
 pub mod runner;
 pub mod sandbox;
+pub mod trial;
 pub mod wire;
 
 use std::ffi::OsString;
@@ -144,7 +145,7 @@ pub struct Cli {
 }
 
 /// `2G`, `512M`, `1.5G` or a number of bytes, between 64 MiB and 64 GiB.
-fn parse_memory(text: &str) -> Result<u64, String> {
+pub(crate) fn parse_memory(text: &str) -> Result<u64, String> {
     let t = text.trim();
     let (number, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
         Some((i, _)) => (&t[..i], t[i..].to_ascii_uppercase()),
@@ -195,6 +196,32 @@ fn use_color(cli: &Cli) -> bool {
 fn usage_error(message: &str) -> ExitCode {
     eprintln!("grader: {message}");
     ExitCode::from(2)
+}
+
+/// The `grader` program's `main` after the launcher check: `try ...` or
+/// grading, with the student's functions in `program`.
+pub fn main_with(program: impl FnOnce() -> Result<runner::ChildProgram, String>) -> ExitCode {
+    let args: Vec<OsString> = std::env::args_os().collect();
+    let trying = args.get(1).is_some_and(|a| a == "try");
+    // Parse before building anything, so a usage error is quick.
+    let (grade_cli, try_cli) = if trying {
+        (None, Some(trial::TryCli::parse_from(args.iter().skip(1))))
+    } else {
+        (Some(Cli::parse()), None)
+    };
+    let program = match program() {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("grader: {e}");
+            println!("test failed");
+            return ExitCode::from(1);
+        }
+    };
+    match (grade_cli, try_cli) {
+        (_, Some(t)) => trial::run_try(&t, &program),
+        (Some(c), _) => run(&c, &program),
+        (None, None) => unreachable!("one of the two was parsed"),
+    }
 }
 
 /// The `grader` program: the student's functions live in `grader-child`,

@@ -1,22 +1,12 @@
 //! `cargo run -p grader`: grades your crates/meshedit.
+//! `cargo run -p grader -- try FILE.obj --subdivide 1`: runs it on any mesh.
 //!
 //! This program holds none of your code: it starts `grader-child` (built
 //! from your crate) once per case, locked in, and judges what comes back.
 
 use std::process::ExitCode;
 
-use clap::Parser;
-
 fn main() -> ExitCode {
     grader::sandbox::launch_if_asked();
-    let cli = grader::Cli::parse();
-    let program = match grader::student_child_program() {
-        Ok(p) => p,
-        Err(e) => {
-            eprintln!("grader: {e}");
-            println!("test failed");
-            return ExitCode::from(1);
-        }
-    };
-    grader::run(&cli, &program)
+    grader::main_with(grader::student_child_program)
 }

@@ -182,6 +182,15 @@ enum Command {
     },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
+    /// Run an implementation from the catalogue on any OBJ, as a student's
+    /// `cargo run -p grader -- try` does.
+    Try {
+        /// Which implementation (see `implementations`).
+        #[arg(long = "implementation", default_value = "reference")]
+        implementation: String,
+        #[command(flatten)]
+        args: grader::trial::TryCli,
+    },
     /// The child side of `grade`: runs one case sent on standard input
     /// (started by the grader, locked in; of no use by hand).
     #[command(hide = true)]
@@ -258,6 +267,18 @@ fn find_implementation(name: &str) -> Result<mutants::Entry, String> {
             "no implementation {name:?}; there are: {}",
             names.join(", ")
         )
+    })
+}
+
+/// The child program for `implementation`: this program again, serving it.
+fn serving(implementation: String) -> Result<grader::runner::ChildProgram, String> {
+    Ok(grader::runner::ChildProgram {
+        exe: std::env::current_exe().map_err(|e| e.to_string())?,
+        args: vec![
+            "serve-case".into(),
+            "--implementation".into(),
+            implementation.into(),
+        ],
     })
 }
 
@@ -446,16 +467,14 @@ fn run(command: Command) -> Result<ExitCode, String> {
             grader: cli,
         } => {
             find_implementation(&implementation)?;
-            // The child is this program again, serving the implementation.
-            let program = grader::runner::ChildProgram {
-                exe: std::env::current_exe().map_err(|e| e.to_string())?,
-                args: vec![
-                    "serve-case".into(),
-                    "--implementation".into(),
-                    implementation.into(),
-                ],
-            };
-            Ok(grader::run(&cli, &program))
+            Ok(grader::run(&cli, &serving(implementation)?))
+        }
+        Command::Try {
+            implementation,
+            args,
+        } => {
+            find_implementation(&implementation)?;
+            Ok(grader::trial::run_try(&args, &serving(implementation)?))
         }
         Command::ServeCase { implementation } => {
             let entry = find_implementation(&implementation)?;

@@ -99,7 +99,9 @@ fn counted(kind: &str) -> usize {
     ["lab", "hidden"]
         .iter()
         .flat_map(|g| std::fs::read_dir(root().join("fixtures").join(g)).unwrap())
-        .map(|e| json(&e.unwrap().path()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .map(|p| json(&p))
         .filter(|f| f["operation"]["kind"] == kind)
         .count()
 }

@@ -591,3 +591,80 @@ fn a_memory_hog_is_named_as_one() {
     assert_eq!(g.code, 2);
     assert!(g.stderr.contains("from 0.1 to 3600"), "{}", g.stderr);
 }
+
+#[test]
+fn try_runs_a_function_on_any_mesh() {
+    let dir = std::env::temp_dir().join(format!("try-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cube = reference::lab_root().join("crates/halfedge/objects/cube.obj");
+    let out = dir.join("cube2.obj");
+    let run = |args: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_reference"))
+            .arg("try")
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        (
+            o.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let c = cube.to_str().unwrap();
+    let (code, stdout, _) = run(&[c, "--subdivide", "2", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stdout}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 98);
+    assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 192);
+    assert!(stdout.contains("[info] wrote "), "{stdout}");
+
+    let (code, stdout, _) = run(&[
+        "--implementation",
+        "flip-stale-vertex",
+        c,
+        "--flip",
+        "1",
+        "2",
+    ]);
+    assert_eq!(code, 1, "{stdout}");
+    assert!(
+        stdout.contains("[warn] the result is a invalid mesh: A vertex's halfedge does not point to that vertex! (v"),
+        "{stdout}"
+    );
+    let (code, _, stderr) = run(&[c, "--flip", "1", "9"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("vertex 9 does not exist: the file's vertices are 1 to 8"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = run(&[c, "--subdivide", "12"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("--subdivide 12 is out of range: 1 to 8"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = run(&[c, "--subdivide", "4", "--max-faces", "1000"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains(
+            "4 rounds make 3072 faces, more than 1000: fewer rounds, or --max-faces 3072"
+        ),
+        "{stderr}"
+    );
+    let (code, stdout, _) = run(&[
+        "--implementation",
+        "endless",
+        c,
+        "--subdivide",
+        "1",
+        "--timeout",
+        "1",
+    ]);
+    assert_eq!(code, 1);
+    assert!(
+        stdout.contains("[warn] loop_subdivide did not return: still running after 1 s"),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
