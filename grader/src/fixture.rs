@@ -207,8 +207,8 @@ pub fn tolerance_problem(tolerance: f64, size: f64) -> Option<String> {
     ))
 }
 
-/// What a known mistake produces: positions, edges, or both, where they
-/// differ from the expected result.
+/// What a known mistake produces: positions, edges, or the broken link
+/// `validate()` finds, where they differ from the expected result.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Mistake {
@@ -218,6 +218,10 @@ pub struct Mistake {
     pub positions: Option<Vec<[f64; 3]>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub edges: Option<Vec<[usize; 2]>>,
+    /// `validate()`'s message (without the element) when the mistake
+    /// breaks the mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub invalid: Option<String>,
 }
 
 /// Why fixtures could not be loaded: always names the file.

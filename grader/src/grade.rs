@@ -282,7 +282,7 @@ fn judge_finished(
 ) {
     let stage = f.operation.stage();
     let function = stage.function();
-    if !check_returned(f, returned, log) {
+    if !check_returned(f, returned, before, log) {
         return;
     }
     if f.expected.returns == Some(Returns::Refused) && !unchanged {
@@ -309,6 +309,16 @@ fn judge_finished(
             Warn,
             "the result of {result_of} is a invalid mesh: {problem}"
         );
+        // A known mistake that breaks the mesh the same way, named.
+        let message = problem.rsplit_once(" (").map_or(problem, |(m, _)| m);
+        if let Some(m) = f
+            .expected
+            .mistakes
+            .iter()
+            .find(|m| m.invalid.as_deref() == Some(message))
+        {
+            say!(log, Detail, "hint: {}", m.hint);
+        }
         return;
     }
     say!(log, Info, "passed");
@@ -375,7 +385,7 @@ fn refusal_reason(f: &Fixture) -> &'static str {
 
 /// The return value, judged before anything else: it says most about a flip
 /// or split that did the wrong thing altogether.
-fn check_returned(f: &Fixture, returned: &Returned, log: &mut Log) -> bool {
+fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Log) -> bool {
     let function = f.operation.stage().function();
     match (&f.expected.returns, returned) {
         (None, _) => true,
@@ -410,6 +420,16 @@ fn check_returned(f: &Fixture, returned: &Returned, log: &mut Log) -> bool {
             say!(log, Warn, "flip_edge returned Some(e{got}), but it must return the edge it was given (e{given})");
             false
         }
+        (Some(Returns::Vertex { .. }), Returned::Vertex { id, .. })
+            if (*id as usize) < before.vertices =>
+        {
+            say!(
+                log,
+                Warn,
+                "split_edge returned v{id}, a vertex that was there before the split: it must return the new vertex"
+            );
+            return false;
+        }
         (Some(Returns::Vertex { position }), Returned::Vertex { id, position: got }) => {
             let Some(got) = got else {
                 say!(
@@ -420,7 +440,8 @@ fn check_returned(f: &Fixture, returned: &Returned, log: &mut Log) -> bool {
                 return false;
             };
             let off = matching::nearest(&[*got], *position).map_or(f64::INFINITY, |n| n.1);
-            if off > f.tolerance {
+            // Written so that a NaN position fails too.
+            if !(off <= f.tolerance) {
                 say!(
                     log,
                     Warn,

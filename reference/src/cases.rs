@@ -474,10 +474,17 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
         edges: sorted_edges(&mesh),
         mistakes: Vec::new(),
     };
-    if let (Operation::Subdivide { rounds: 1 }, None) = (case.operation, expected.returns) {
-        let closed = input.edge_ids().all(|e| !input.edge_on_boundary(e));
-        if closed && case.weights == Weights::Warren {
-            expected.mistakes = mistakes(&input, &expected, case.tolerance);
+    let closed = input.edge_ids().all(|e| !input.edge_on_boundary(e));
+    if closed && case.weights == Weights::Warren && expected.returns.is_none() {
+        match case.operation {
+            Operation::Subdivide { rounds: 1 } => {
+                expected.mistakes = mistakes(&input, &expected, case.tolerance);
+            }
+            Operation::Subdivide { rounds: 2 } => {
+                expected.mistakes =
+                    second_round_mistakes(&input, case.weights, &expected, case.tolerance);
+            }
+            _ => {}
         }
     }
     Ok(Fixture {
@@ -500,21 +507,72 @@ fn mistakes(input: &Mesh, expected: &Expected, tolerance: f64) -> Vec<Mistake> {
     for known in mutants::subdivision_mistakes() {
         let mut mesh = input.clone();
         (known.run)(&mut mesh);
-        // An invalid result stops the grader at validation: nothing to match.
-        if mesh.validate().is_err() {
-            continue;
+        if let Some(m) = mistake_of(&known, &mesh, expected, tolerance) {
+            out.push(m);
         }
-        let ps = positions(&mesh);
-        let edges = sorted_edges(&mesh);
-        let moved = !grader::matching::same_positions(&ps, &expected.positions, tolerance);
-        let relinked = edges != expected.edges;
-        if moved || relinked {
-            out.push(Mistake {
-                id: known.id.to_string(),
-                hint: known.hint.to_string(),
-                positions: moved.then_some(ps),
-                edges: (relinked && !moved).then_some(edges),
-            });
+    }
+    out
+}
+
+/// What a mistake's result looks like next to the expected one: its
+/// positions (when it moves vertices), its edges (when it only relinks), or
+/// `validate()`'s message (when it breaks the mesh). `None` when the grader
+/// could not tell it from the right answer.
+fn mistake_of(
+    known: &mutants::KnownMistake,
+    mesh: &Mesh,
+    expected: &Expected,
+    tolerance: f64,
+) -> Option<Mistake> {
+    let mut m = Mistake {
+        id: known.id.to_string(),
+        hint: known.hint.to_string(),
+        positions: None,
+        edges: None,
+        invalid: None,
+    };
+    if let Err(e) = mesh.validate() {
+        m.invalid = Some(e.message);
+        return Some(m);
+    }
+    let ps = positions(mesh);
+    let edges = sorted_edges(mesh);
+    let moved = !grader::matching::same_positions(&ps, &expected.positions, tolerance);
+    let relinked = edges != expected.edges;
+    if !(moved || relinked) {
+        return None;
+    }
+    m.positions = moved.then_some(ps);
+    m.edges = (relinked && !moved).then_some(edges);
+    Some(m)
+}
+
+/// Mistakes that one round hides and a second round shows (stale flags,
+/// say): the right first round, then the mistake's.
+fn second_round_mistakes(
+    input: &Mesh,
+    weights: Weights,
+    expected: &Expected,
+    tolerance: f64,
+) -> Vec<Mistake> {
+    let mut right = input.clone();
+    solution::loop_subdivide_with(&mut right, weights);
+    let one_round = Expected {
+        returns: None,
+        positions: positions(&right),
+        edges: sorted_edges(&right),
+        mistakes: Vec::new(),
+    };
+    let mut out = Vec::new();
+    for known in mutants::subdivision_mistakes() {
+        let mut mesh = input.clone();
+        (known.run)(&mut mesh);
+        if mistake_of(&known, &mesh, &one_round, tolerance).is_some() {
+            continue; // round one shows it already
+        }
+        (known.run)(&mut mesh);
+        if let Some(m) = mistake_of(&known, &mesh, expected, tolerance) {
+            out.push(m);
         }
     }
     out

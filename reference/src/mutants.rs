@@ -112,6 +112,10 @@ pub fn catalogue() -> Vec<Entry> {
         e("abort", "loop_subdivide aborts the process", with(None, None, Some(sub_abort))),
         e("exit", "loop_subdivide calls std::process::exit(0)", with(None, None, Some(sub_exit))),
         e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", with(None, None, Some(sub_fake_verdict))),
+        e("new-at-origin", "never gives the split vertex its new_pos", with(None, None, Some(sub_new_at_origin))),
+        e("in-place", "moves old vertices while computing their new positions", with(None, None, Some(sub_in_place))),
+        e("stale-flags", "never resets is_new at the start of a round", with(None, None, Some(sub_stale_flags))),
+        e("split-returns-old", "split_edge returns an end of the edge instead of the new vertex", with(None, Some(split_returns_old), None)),
         e("split-stale-b", "split_edge never updates b's halfedge (passes on meshes as built from faces)", with(None, Some(hostile::split_stale_b), None)),
         e("split-stale-faces", "split_edge never resets the halfedge of the faces it shrinks", with(None, Some(hostile::split_stale_faces), None)),
         e("split-assumes-inside", "split_edge refuses a boundary edge given by its halfedge in the hole", with(None, Some(hostile::split_assumes_inside), None)),
@@ -154,6 +158,9 @@ pub fn subdivision_mistakes() -> Vec<KnownMistake> {
         m("no-flip", "no edge was flipped: after splitting, flip every new edge that joins an old and a new vertex", sub_no_flip),
         m("flip-all-new", "edges joining two new vertices were flipped too: flip only new edges that join an old and a new vertex", sub_flip_all_new),
         m("flip-halves", "halves of the old edges were flipped too: of the four edges at a split vertex, only the two across the old edge are new", sub_flip_halves),
+        m("new-at-origin", "the new vertices ended at the origin: after split_edge, give the new vertex its edge's new_pos (mesh[m].new_pos = mesh[e].new_pos)", sub_new_at_origin),
+        m("in-place", "the old vertices were moved while their new positions were still being computed: store each in new_pos and move every vertex at the end", sub_in_place),
+        m("stale-flags", "the second round went wrong: reset is_new to false on every vertex and edge at the start of each round (the new ones of the last round are old now)", sub_stale_flags),
     ]
 }
 
@@ -469,6 +476,59 @@ fn sub_abort(_: &mut Mesh) {
 
 fn sub_exit(_: &mut Mesh) {
     std::process::exit(0);
+}
+
+fn sub_new_at_origin(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    let old: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::split_edges(mesh, &old, solution::split_edge);
+    // Forget what split_edges set: the new vertices keep new_pos = 0.
+    for v in mesh.vertex_ids() {
+        if mesh[v].is_new {
+            mesh[v].new_pos = DVec3::ZERO;
+        }
+    }
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::move_vertices(mesh);
+}
+
+fn sub_in_place(mesh: &mut Mesh) {
+    // Edge points first, from the unmoved mesh; then each vertex moved as
+    // soon as its point is known, so later ones see moved neighbours.
+    solution::edge_points(mesh);
+    for v in mesh.vertex_ids() {
+        let ns = mesh.vertex_neighbors(v);
+        let u = Weights::Warren.neighbour_weight(ns.len());
+        let sum: DVec3 = ns.iter().map(|&n| mesh[n].pos).sum();
+        let p = (1.0 - ns.len() as f64 * u) * mesh[v].pos + u * sum;
+        mesh[v].pos = p;
+        mesh[v].new_pos = p;
+        mesh[v].is_new = false;
+    }
+    after_points(mesh);
+}
+
+fn sub_stale_flags(mesh: &mut Mesh) {
+    // The model's steps, but the old elements' flags are never reset.
+    let keep: Vec<bool> = mesh.vertex_ids().map(|v| mesh[v].is_new).collect();
+    let keep_e: Vec<bool> = mesh.edge_ids().map(|e| mesh[e].is_new).collect();
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    for (v, &f) in mesh.vertex_ids().zip(&keep) {
+        mesh[v].is_new = f;
+    }
+    for (e, &f) in mesh.edge_ids().zip(&keep_e) {
+        mesh[e].is_new = f;
+    }
+    after_points(mesh);
+}
+
+fn split_returns_old(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let (a, _) = mesh.edge_vertices(e);
+    solution::split_edge(mesh, e)?;
+    Some(a)
 }
 
 fn sub_fake_verdict(mesh: &mut Mesh) {

@@ -321,6 +321,12 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
         points as usize,
         std::fs::read_dir(root().join("fixtures/lab"))
             .unwrap()
+            .filter(|e| e
+                .as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "json"))
             .count()
     );
 
@@ -467,6 +473,12 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         hidden,
         std::fs::read_dir(root().join("fixtures/hidden"))
             .unwrap()
+            .filter(|e| e
+                .as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "json"))
             .count()
     );
     assert!(tests
