@@ -428,7 +428,7 @@ fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Lo
                 Warn,
                 "split_edge returned v{id}, a vertex that was there before the split: it must return the new vertex"
             );
-            return false;
+            false
         }
         (Some(Returns::Vertex { position }), Returned::Vertex { id, position: got }) => {
             let Some(got) = got else {
@@ -440,8 +440,8 @@ fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Lo
                 return false;
             };
             let off = matching::nearest(&[*got], *position).map_or(f64::INFINITY, |n| n.1);
-            // Written so that a NaN position fails too.
-            if !(off <= f.tolerance) {
+            // A NaN position is off too.
+            if off.is_nan() || off > f.tolerance {
                 say!(
                     log,
                     Warn,
