@@ -368,6 +368,97 @@ fn grade_case(
     first.ok_or_else(|| format!("{}: no labelling ran", f.name))
 }
 
+/// Grades every case, two or more side by side (one per core, at most
+/// four), and returns the reports in the cases' order and the launcher's
+/// status. Once a function has timed out, its cases that start later get a
+/// short limit: an endless loop should cost the full limit once, not once
+/// per case.
+fn grade_all(
+    cases: &[Case],
+    cli: &Cli,
+    program: &runner::ChildProgram,
+    limits: &sandbox::Limits,
+) -> Result<(Vec<grade::CaseReport>, Option<String>), String> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 4)
+        .min(cases.len());
+    let next = AtomicUsize::new(0);
+    let timed_out: Mutex<Vec<(Stage, String)>> = Mutex::new(Vec::new());
+    let protections: Mutex<Option<String>> = Mutex::new(None);
+    let results: Mutex<Vec<Option<Result<grade::CaseReport, String>>>> =
+        Mutex::new(vec![None; cases.len()]);
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(case) = cases.get(i) else {
+                    return;
+                };
+                let stage = case.fixture.operation.stage();
+                let earlier = timed_out
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .iter()
+                    .find(|(s, _)| *s == stage)
+                    .map(|(_, n)| n.clone());
+                let limit = match &earlier {
+                    Some(_) => cli.timeout.min(SHORT_LIMIT),
+                    None => cli.timeout,
+                };
+                let mut status = None;
+                let result = grade_case(
+                    case,
+                    cli,
+                    program,
+                    limits,
+                    Duration::from_secs_f64(limit),
+                    &mut status,
+                )
+                .map(|mut r| {
+                    let timed = r.entries.iter().any(|e| {
+                        e.level == grade::Level::Warn && e.text.contains("did not finish within")
+                    });
+                    if timed {
+                        match &earlier {
+                            Some(name) => grade::add_detail(
+                                &mut r,
+                                format!(
+                                    "the limit was cut to {limit} s because {} already timed out on {name}",
+                                    stage.function()
+                                ),
+                            ),
+                            None => timed_out
+                                .lock()
+                                .unwrap_or_else(|e| e.into_inner())
+                                .push((stage, r.name.clone())),
+                        }
+                    }
+                    r
+                });
+                let mut first = protections.lock().unwrap_or_else(|e| e.into_inner());
+                if first.is_none() {
+                    *first = status;
+                }
+                drop(first);
+                results.lock().unwrap_or_else(|e| e.into_inner())[i] = Some(result);
+            });
+        }
+    });
+    let reports = results
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| Err("a case was not graded".into())))
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok((
+        reports,
+        protections.into_inner().unwrap_or_else(|e| e.into_inner()),
+    ))
+}
+
 /// What a run that graded only part of the lab graded, in words.
 fn partial_run(cli: &Cli) -> Option<String> {
     match (&cli.case, cli.stage) {
@@ -451,50 +542,11 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         drop_user: sandbox::runnable_by_others(&program.exe),
         landlock: !cli.without_landlock,
     };
-    let mut protections = None;
-    let mut reports = Vec::new();
-    // Once a function has timed out, its later cases get a short limit: an
-    // endless loop should cost the full limit once, not once per case.
-    let mut timed_out: Vec<(Stage, String)> = Vec::new();
-    for case in &cases {
-        let stage = case.fixture.operation.stage();
-        let earlier = timed_out
-            .iter()
-            .find(|(s, _)| *s == stage)
-            .map(|(_, n)| n.clone());
-        let limit = match &earlier {
-            Some(_) => cli.timeout.min(SHORT_LIMIT),
-            None => cli.timeout,
-        };
-        match grade_case(
-            case,
-            cli,
-            program,
-            &limits,
-            Duration::from_secs_f64(limit),
-            &mut protections,
-        ) {
-            Ok(mut r) => {
-                let timed = r.entries.iter().any(|e| {
-                    e.level == grade::Level::Warn && e.text.contains("did not finish within")
-                });
-                if timed {
-                    match earlier {
-                        Some(name) => grade::add_detail(
-                            &mut r,
-                            format!(
-                                "the limit was cut to {limit} s because {} already timed out on {name}",
-                                stage.function()
-                            ),
-                        ),
-                        None => timed_out.push((stage, r.name.clone())),
-                    }
-                }
-                reports.push(r)
-            }
-            Err(e) => return usage_error(&e),
-        }
-    }
+    let reports = match grade_all(&cases, cli, program, &limits) {
+        Ok(r) => r,
+        Err(e) => return usage_error(&e),
+    };
+    let (mut reports, protections): (Vec<_>, Option<String>) = reports;
     grade::note_dependencies(&mut reports);
     // Naming a bonus case is asking for it to count.
     let bonus = cli.bonus || cli.case.is_some();

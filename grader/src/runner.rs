@@ -140,12 +140,26 @@ fn children_of(parent: u32) -> Vec<u32> {
         .collect()
 }
 
+/// The children of cases still running (cases may run side by side): the
+/// sweep leaves them alone. Spawning holds the lock too, so a sweep never
+/// sees a child before it is listed.
+static ACTIVE: std::sync::Mutex<Vec<u32>> = std::sync::Mutex::new(Vec::new());
+
+fn active() -> std::sync::MutexGuard<'static, Vec<u32>> {
+    ACTIVE.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Kills every process this process is the parent of (orphans reparented
-/// to us by the subreaper flag), and reaps them, until none is left.
+/// to us by the subreaper flag) but the children of running cases, and
+/// reaps them, until none is left.
 pub fn kill_descendants() {
     let me = std::process::id();
+    let running = active();
     for _ in 0..200 {
-        let found = children_of(me);
+        let found: Vec<u32> = children_of(me)
+            .into_iter()
+            .filter(|p| !running.contains(p))
+            .collect();
         if found.is_empty() {
             return;
         }
@@ -252,7 +266,12 @@ pub fn run_child(
     if let Some(log) = std::env::var_os("RUST_LOG") {
         cmd.env("RUST_LOG", log);
     }
-    let mut child = cmd.spawn()?;
+    let mut child = {
+        let mut running = active();
+        let child = cmd.spawn()?;
+        running.push(child.id());
+        child
+    };
     let pid = child.id();
     let (tx, rx) = mpsc::channel();
 
@@ -313,6 +332,7 @@ pub fn run_child(
         }
     }
     kill_group(pid);
+    active().retain(|&p| p != pid);
     kill_descendants();
     let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
     let exit = classify(limit_hit, status, result, &output);
