@@ -109,10 +109,9 @@ pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
 /// all five fields ([`Mesh::set_neighbors`] sets them at once); every old
 /// halfedge whose `next`, `vertex` or `face` changed needs them updated
 /// (`h`, `h1`, `t`, `t1`, `t2`; `h2` keeps all five); and every record that
-/// points *at* a halfedge must
-/// point at one that still fits: `mesh[b].halfedge` may have been `t`,
-/// which now starts at `m`; `mesh[f0].halfedge` may have been `h1`, which is
-/// now in `f2`.
+/// points *at* a halfedge must point at one that still fits:
+/// `mesh[b].halfedge` may have been `t`, which now starts at `m`;
+/// `mesh[f0].halfedge` may have been `h1`, which is now in `f2`.
 ///
 /// On a boundary edge, `t` (or `h`: the edge's halfedge may lie in the hole;
 /// start from the one in the real face) runs inside the hole's face. After
