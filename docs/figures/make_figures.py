@@ -161,9 +161,12 @@ class Fig:
             f"<title>{esc(self.title)}</title>",
             f'<rect x="0" y="0" width="{self.w}" height="{self.h}" fill="#ffffff"/>',
         ] + self.items + ["</svg>"]
+        text = "\n".join(body) + "\n"
+        # What rustdoc's inlining needs (see the module docstring).
+        assert "\n\n" not in text and " id=" not in text, self.name
         path = os.path.join(OUT, self.name + ".svg")
         with open(path, "w", encoding="utf-8") as f:
-            f.write("\n".join(body) + "\n")
+            f.write(text)
         print("wrote", path)
 
 
