@@ -2,6 +2,23 @@
 //!
 //! Elements are never removed in this lab, so ids stay valid forever and the
 //! ids that exist at one moment are simply `0..count`.
+//!
+//! **Orientation.** The library expects every face to be wound the same way
+//! as its neighbours: a halfedge has its face on its left, seen from the side
+//! the faces are counter-clockwise from. For a closed mesh that is normally
+//! the outside, and the generated [`crate::shapes`] are built that way. The
+//! lab's own `cube.obj` is wound the other way (clockwise seen from outside,
+//! so its faces face inwards and its signed volume is -1); it is kept exactly
+//! as the lab ships it. Nothing in the lab depends on which side is out:
+//! flips, splits and Loop subdivision only use the links and the positions,
+//! so they give the same surface either way. Only normals
+//! ([`Mesh::face_normal`]) point inwards on that cube.
+//!
+//! **Defaults of new elements.** [`Mesh::new_vertex`] and [`Mesh::new_edge`]
+//! create records with `is_new: false` and `new_pos: DVec3::ZERO`, and every
+//! link (`halfedge`, and all five fields of a new halfedge) unset (`NONE`).
+//! Set what the new element needs yourself: in subdivision, a split vertex
+//! is *not* new and has no `new_pos` until you say so.
 
 use std::ops::{Index, IndexMut};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -11,12 +28,15 @@ use glam::DVec3;
 use crate::ids::{EdgeId, FaceId, HalfedgeId, Ids, VertexId};
 
 /// One side of an edge, running from `vertex` to `mesh[next].vertex`, with its
-/// face on the left (faces are counter-clockwise seen from outside).
+/// face on the left. The faces around `next` are wound consistently; the
+/// library does not require that to be counter-clockwise seen from outside
+/// (the lab's `cube.obj` is clockwise): see the module documentation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Halfedge {
     /// The halfedge on the other side of the same edge, running the other way.
     pub twin: HalfedgeId,
-    /// The next halfedge counter-clockwise around `face`.
+    /// The next halfedge around `face`, in the face's winding (its corners in
+    /// the order the input listed them). [`Mesh::prev`] goes the other way.
     pub next: HalfedgeId,
     /// The vertex this halfedge starts from.
     pub vertex: VertexId,
@@ -32,8 +52,11 @@ pub struct Vertex {
     /// Where the vertex is.
     pub pos: DVec3,
     /// Scratch space for subdivision: where the vertex will move to.
+    /// `DVec3::ZERO` for every vertex until you write it, including one that
+    /// `split_edge` just created.
     pub new_pos: DVec3,
     /// Scratch flag for subdivision: whether the vertex was created by it.
+    /// `false` for every vertex, new ones included, until you set it.
     pub is_new: bool,
     /// Any one halfedge that starts at this vertex.
     pub halfedge: HalfedgeId,
@@ -45,9 +68,10 @@ pub struct Edge {
     /// Either of the edge's two halfedges.
     pub halfedge: HalfedgeId,
     /// Scratch space for subdivision: where the vertex that splits this edge
-    /// will be placed.
+    /// will be placed. `DVec3::ZERO` until you write it.
     pub new_pos: DVec3,
     /// Scratch flag for subdivision: whether the edge was created by it.
+    /// `false` for every edge, new ones included, until you set it.
     pub is_new: bool,
 }
 
@@ -163,7 +187,8 @@ impl Mesh {
         (&self.vertices, &self.edges, &self.faces, &self.halfedges)
     }
 
-    /// Adds a vertex at `pos` whose `halfedge` is not set yet.
+    /// Adds a vertex at `pos` whose `halfedge` is not set yet, with
+    /// `new_pos = DVec3::ZERO` and `is_new = false`.
     pub fn new_vertex(&mut self, pos: DVec3) -> VertexId {
         self.charge_one();
         self.vertices.push(Vertex {
@@ -175,7 +200,8 @@ impl Mesh {
         VertexId::from_index(self.vertices.len() - 1)
     }
 
-    /// Adds an edge whose `halfedge` is not set yet.
+    /// Adds an edge whose `halfedge` is not set yet, with
+    /// `new_pos = DVec3::ZERO` and `is_new = false`.
     pub fn new_edge(&mut self) -> EdgeId {
         self.charge_one();
         self.edges.push(Edge {

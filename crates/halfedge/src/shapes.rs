@@ -2,7 +2,10 @@
 //! lab ships them, and generators for more shapes with any resolution.
 //!
 //! Every shape is built through [`Mesh::from_faces`], so each is checked like
-//! any input. Closed shapes face outwards (counter-clockwise seen from outside).
+//! any input. The generated closed shapes face outwards (counter-clockwise
+//! seen from outside); of the lab's objects the torus, cylinder and cone do
+//! too, but the lab's cube is wound clockwise seen from outside (see
+//! [`crate::mesh`] on orientation).
 
 use std::collections::HashMap;
 use std::f64::consts::TAU;

@@ -2,6 +2,13 @@
 //!
 //! Every walk is bounded by the number of halfedges, so a broken `next` or
 //! `twin` link makes it panic with a message instead of looping forever.
+//!
+//! Which way the walks turn: around a face, `next` follows the face's own
+//! winding (counter-clockwise seen from the side the faces are wound
+//! counter-clockwise from, which for a mesh facing outwards is outside).
+//! Around a vertex, [`Mesh::vertex_halfedges`] turns the *other* way:
+//! clockwise seen from that same side. [`Mesh::prev`] steps backwards around
+//! a face, and so gives the way to turn around a vertex the other way.
 
 use crate::ids::{EdgeId, FaceId, HalfedgeId, VertexId};
 use crate::mesh::Mesh;
@@ -30,8 +37,8 @@ impl Mesh {
         out
     }
 
-    /// The halfedges around face `f`, counter-clockwise, starting with
-    /// `mesh[f].halfedge`.
+    /// The halfedges around face `f`, following `next` (the face's own
+    /// winding), starting with `mesh[f].halfedge`.
     pub fn face_halfedges(&self, f: FaceId) -> Vec<HalfedgeId> {
         self.orbit(self[f].halfedge, |h| self[h].next, &f)
     }
@@ -51,6 +58,17 @@ impl Mesh {
 
     /// The halfedges that start at `v`, one per incident edge, starting with
     /// `mesh[v].halfedge` and turning by `twin` then `next`.
+    ///
+    /// Each step goes from `h` to `mesh[mesh[h].twin].next`: into the face on
+    /// the far side of `h` (the face of its twin), whose next halfedge out of
+    /// `v` comes after `h` going **clockwise** seen from the side the faces
+    /// are counter-clockwise from. On a mesh that faces outwards that is
+    /// clockwise seen from outside; on the lab's `cube.obj`, which is wound
+    /// the other way, it is counter-clockwise seen from outside. To turn the
+    /// other way, step with `mesh[mesh.prev(h)].twin`.
+    ///
+    /// On a boundary vertex the walk passes through the hole's face like any
+    /// other face, so it still visits every edge at `v`.
     pub fn vertex_halfedges(&self, v: VertexId) -> Vec<HalfedgeId> {
         self.orbit(self[v].halfedge, |h| self[self[h].twin].next, &v)
     }
@@ -86,6 +104,24 @@ impl Mesh {
     pub fn edge_vertices(&self, e: EdgeId) -> (VertexId, VertexId) {
         let h = self[e].halfedge;
         (self[h].vertex, self.halfedge_dst(h))
+    }
+
+    /// The halfedge before `h` around its face: the one whose `next` is `h`.
+    ///
+    /// A halfedge stores only `next`, so this walks once around the face
+    /// (3 steps in a triangle, more around a hole) and, like every walk here,
+    /// panics with a message rather than loop if the face's `next` links never
+    /// come back to `h`. Useful where a link *into* `h` must change, e.g. when
+    /// a boundary split inserts a halfedge into a hole's loop before `t`:
+    /// `let before = mesh.prev(t); mesh[before].next = new_halfedge;`.
+    ///
+    /// Around a vertex, `mesh[mesh.prev(h)].twin` is the halfedge out of the
+    /// same vertex that comes just *before* `h` in
+    /// [`Mesh::vertex_halfedges`]: one step of that walk, backwards.
+    pub fn prev(&self, h: HalfedgeId) -> HalfedgeId {
+        let around = format!("the face of {h}");
+        let face = self.orbit(h, |g| self[g].next, &around);
+        *face.last().expect("an orbit holds at least its start")
     }
 
     /// The vertex halfedge `h` points to (where its twin starts).

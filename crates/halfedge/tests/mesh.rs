@@ -237,3 +237,87 @@ fn reader_agrees_with_tobj_on_the_lab_objects() {
         assert_eq!(ours_flat, theirs.positions, "{name}: positions");
     }
 }
+
+#[test]
+fn prev_is_the_inverse_of_next() {
+    // Triangles (the lab cube) and a hole's longer loop (the grid's rim).
+    for m in [shapes::lab_object("cube").unwrap(), shapes::grid(3, 2)] {
+        for h in m.halfedge_ids() {
+            let p = m.prev(h);
+            assert_eq!(m[p].next, h, "prev({h}) = {p}");
+            assert_eq!(m[p].face, m[h].face, "{p} and {h} share a face");
+            assert_eq!(m.halfedge_dst(p), m[h].vertex, "{p} ends where {h} starts");
+        }
+    }
+    let g = shapes::grid(3, 2);
+    let rim = g.face_ids().find(|&f| g[f].is_boundary).unwrap();
+    let loop_ = g.face_halfedges(rim);
+    assert_eq!(loop_.len(), 10, "a 3 by 2 grid's rim has 10 edges");
+    assert_eq!(g.prev(loop_[0]), loop_[9]);
+}
+
+#[test]
+fn prev_twin_steps_back_around_a_vertex() {
+    let m = shapes::lab_object("torus").unwrap();
+    for v in m.vertex_ids() {
+        let around = m.vertex_halfedges(v);
+        let n = around.len();
+        for i in 0..n {
+            let back = m[m.prev(around[(i + 1) % n])].twin;
+            assert_eq!(back, around[i], "one step back from {}", around[i]);
+        }
+    }
+}
+
+#[test]
+fn prev_panics_with_a_message_on_a_broken_face() {
+    let mut m = shapes::lab_object("cube").unwrap();
+    let h0 = m[FaceId(0)].halfedge;
+    let h1 = m[h0].next;
+    m[h1].next = h1;
+    let err = panic::catch_unwind(|| m.prev(h0)).unwrap_err();
+    let msg = err.downcast_ref::<String>().unwrap();
+    assert!(
+        msg.starts_with(&format!("the walk around the face of {h0} never came back")),
+        "{msg}"
+    );
+}
+
+/// For each vertex of a convex closed mesh centred at the origin, the sign
+/// of the turn from each halfedge around it to the next, seen from outside:
+/// +1 counter-clockwise, -1 clockwise (all turns must agree).
+fn turn_seen_from_outside(m: &Mesh) -> f64 {
+    let mut sign = 0.0;
+    for v in m.vertex_ids() {
+        let out = m[v].pos; // outwards, for a convex shape around the origin
+        let dirs: Vec<DVec3> = m
+            .vertex_halfedges(v)
+            .into_iter()
+            .map(|h| m[m.halfedge_dst(h)].pos - m[v].pos)
+            .collect();
+        for i in 0..dirs.len() {
+            let turn = dirs[i].cross(dirs[(i + 1) % dirs.len()]).dot(out);
+            assert!(turn.abs() > 1e-9, "{v}: a flat turn");
+            if sign == 0.0 {
+                sign = turn.signum();
+            }
+            assert_eq!(turn.signum(), sign, "{v}: the turns disagree");
+        }
+    }
+    sign
+}
+
+#[test]
+fn vertex_halfedges_turn_against_the_faces() {
+    // Faces counter-clockwise seen from outside: the walk turns clockwise.
+    assert_eq!(turn_seen_from_outside(&shapes::icosphere(1)), -1.0);
+    // The lab's cube is wound clockwise seen from outside: the walk turns
+    // counter-clockwise seen from outside.
+    let lab = shapes::lab_object("cube").unwrap();
+    let centre = lab.positions().iter().sum::<DVec3>();
+    assert!(
+        centre.length() < 1e-12,
+        "the lab cube is centred on the origin"
+    );
+    assert_eq!(turn_seen_from_outside(&lab), 1.0);
+}
