@@ -338,14 +338,12 @@ fn judge_finished(
     check_returned_shape(f, returned, mesh, &matched, log);
 }
 
-/// Whether the case's edge borders a hole in the input: it is used by one
-/// face only.
-fn on_boundary(f: &Fixture) -> bool {
+/// The input faces beside the case's edge (none for subdivision).
+fn faces_beside(f: &Fixture) -> Vec<&Vec<usize>> {
     let (Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] }) = f.operation else {
-        return false;
+        return Vec::new();
     };
-    let uses = f
-        .input
+    f.input
         .faces
         .iter()
         .filter(|face| {
@@ -354,26 +352,18 @@ fn on_boundary(f: &Fixture) -> bool {
                 (x, y) == (a, b) || (x, y) == (b, a)
             })
         })
-        .count();
-    uses == 1
+        .collect()
+}
+
+/// Whether the case's edge borders a hole in the input: it is used by one
+/// face only.
+fn on_boundary(f: &Fixture) -> bool {
+    faces_beside(f).len() == 1
 }
 
 /// Why the case's edge must be refused, from the input faces.
 fn refusal_reason(f: &Fixture) -> &'static str {
-    let (Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] }) = f.operation else {
-        return "the mesh";
-    };
-    let beside: Vec<&Vec<usize>> = f
-        .input
-        .faces
-        .iter()
-        .filter(|face| {
-            (0..face.len()).any(|i| {
-                let (x, y) = (face[i], face[(i + 1) % face.len()]);
-                (x, y) == (a, b) || (x, y) == (b, a)
-            })
-        })
-        .collect();
+    let beside = faces_beside(f);
     if beside.iter().any(|face| face.len() != 3) {
         "an edge beside a face that is not a triangle"
     } else if on_boundary(f) {
