@@ -75,7 +75,8 @@ enum Command {
         /// Which set the case joins.
         #[arg(long, value_enum, default_value = "hidden")]
         group: Group,
-        /// Subdivide this many rounds (the default operation, 1 round).
+        /// Subdivide this many rounds (the default operation, 1 round);
+        /// 1 to 10, and at most 50000 faces in the result.
         #[arg(long, value_name = "ROUNDS", conflicts_with_all = ["flip", "split"])]
         subdivide: Option<usize>,
         /// Flip the edge between vertices A and B.
@@ -84,7 +85,8 @@ enum Command {
         /// Split the edge between vertices A and B.
         #[arg(long, num_args = 2, value_names = ["A", "B"])]
         split: Option<Vec<usize>>,
-        /// Largest distance a vertex may be off.
+        /// Largest distance a vertex may be off: between 1e-12 and 1e-2 of
+        /// the mesh's size (the diagonal of its bounding box).
         #[arg(long, default_value_t = cases::TOLERANCE)]
         tolerance: f64,
         /// The fixtures folder [default: the lab's fixtures/].
@@ -96,7 +98,8 @@ enum Command {
     /// Subdivide an OBJ with the reference and write the result.
     Subdivide {
         input: PathBuf,
-        /// Rounds of subdivision.
+        /// Rounds of subdivision: 1 to 10, and at most 2000000 faces in
+        /// the result.
         #[arg(short = 'n', long, default_value_t = 1)]
         rounds: usize,
         #[arg(short = 'o', long)]
@@ -225,13 +228,151 @@ fn fixtures_dir(dir: Option<PathBuf>) -> PathBuf {
     dir.unwrap_or_else(|| lab_root().join("fixtures"))
 }
 
+/// Most rounds `subdivide` and `add --subdivide` take.
+const MAX_ROUNDS: usize = 10;
+/// Most faces `subdivide` makes: each round multiplies them by four, and two
+/// million faces already take about half a gigabyte.
+const MAX_SUBDIVIDE_FACES: usize = 2_000_000;
+/// Most faces a fixture from `add` may expect: every grade reads the file.
+const MAX_FIXTURE_FACES: usize = 50_000;
+/// A tolerance lies between these fractions of the mesh's size: below, f64
+/// rounding alone would fail a correct answer; above, wrong ones pass.
+const TOLERANCE_FRACTIONS: (f64, f64) = (1e-12, 1e-2);
+/// Reader warnings printed one by one; the summary line counts them all.
+const MAX_WARNINGS_SHOWN: usize = 10;
+
+/// Reads an OBJ file and prints what the reader ignored to stderr.
 fn read_obj(path: &Path) -> Result<Mesh, String> {
-    Mesh::from_obj_file(path).map_err(|e| e.to_string())
+    let (mesh, warnings) = Mesh::read_obj_file(path).map_err(|e| e.to_string())?;
+    for w in warnings.iter().take(MAX_WARNINGS_SHOWN) {
+        eprintln!("{w}");
+    }
+    if warnings.len() > MAX_WARNINGS_SHOWN {
+        eprintln!(
+            "... and {} more warnings",
+            warnings.len() - MAX_WARNINGS_SHOWN
+        );
+    }
+    if let Some(line) = halfedge::obj::summary(&warnings) {
+        eprintln!("{line}");
+    }
+    Ok(mesh)
+}
+
+/// Checks a number of rounds, and that the result stays under `max_faces`.
+fn check_rounds(flag: &str, rounds: usize, mesh: &Mesh, max_faces: usize) -> Result<(), String> {
+    if !(1..=MAX_ROUNDS).contains(&rounds) {
+        return Err(format!(
+            "{flag} {rounds}: the number of rounds must be 1 to {MAX_ROUNDS}"
+        ));
+    }
+    let faces = mesh.num_real_faces();
+    let after = |r: usize| {
+        4usize
+            .checked_pow(r as u32)
+            .and_then(|k| k.checked_mul(faces))
+    };
+    if after(rounds).is_none_or(|n| n > max_faces) {
+        let fits = (0..rounds)
+            .rev()
+            .find(|&r| after(r).is_some_and(|n| n <= max_faces))
+            .unwrap_or(0);
+        let advice = if fits == 0 {
+            "this mesh is too big for even one round".to_string()
+        } else {
+            format!("use at most {fits} rounds for this mesh")
+        };
+        return Err(format!(
+            "{flag} {rounds}: {faces} faces would become {}, more than the {max_faces} allowed: \
+             {advice}",
+            after(rounds).map_or_else(|| "more than can be counted".to_string(), |n| n.to_string())
+        ));
+    }
+    Ok(())
+}
+
+/// The diagonal of the mesh's bounding box.
+fn mesh_size(mesh: &Mesh) -> f64 {
+    let ps = mesh.positions();
+    let lo = ps
+        .iter()
+        .copied()
+        .fold(halfedge::DVec3::INFINITY, |a, b| a.min(b));
+    let hi = ps
+        .iter()
+        .copied()
+        .fold(halfedge::DVec3::NEG_INFINITY, |a, b| a.max(b));
+    (hi - lo).length()
+}
+
+/// Checks a tolerance against [`TOLERANCE_FRACTIONS`] of the mesh's size.
+fn check_tolerance(tolerance: f64, mesh: &Mesh) -> Result<(), String> {
+    let size = mesh_size(mesh);
+    if !(size > 0.0 && size.is_finite()) {
+        return Err(format!(
+            "the mesh has no size to measure a tolerance against (the diagonal of its bounding \
+             box is {size}): all its vertices are at one point"
+        ));
+    }
+    // Compare with the bounds as printed, so that a value copied from the
+    // message is accepted.
+    let shown = |x: f64| format!("{x:.3e}");
+    let (lo, hi) = (
+        shown(TOLERANCE_FRACTIONS.0 * size),
+        shown(TOLERANCE_FRACTIONS.1 * size),
+    );
+    let (lo_f, hi_f): (f64, f64) = (lo.parse().unwrap_or(0.0), hi.parse().unwrap_or(0.0));
+    if !(lo_f <= tolerance && tolerance <= hi_f) {
+        return Err(format!(
+            "--tolerance {tolerance}: must be between {lo} and {hi} for this mesh \
+             ({:e} to {:e} of its size, the diagonal of its bounding box, {})",
+            TOLERANCE_FRACTIONS.0,
+            TOLERANCE_FRACTIONS.1,
+            shown(size)
+        ));
+    }
+    Ok(())
+}
+
+/// Why edge `e` cannot be flipped, if it cannot: on the boundary, beside a
+/// face that is not a triangle, or facing two vertices that are one or
+/// already joined (the flip would make a second edge between them).
+fn flip_refusal(mesh: &Mesh, e: halfedge::EdgeId) -> Option<String> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    if mesh.edge_on_boundary(e) {
+        return Some("it is on the boundary (a hole is on one side)".into());
+    }
+    if mesh.face_degree(mesh[h].face) != 3 || mesh.face_degree(mesh[t].face) != 3 {
+        return Some("the faces on its two sides are not both triangles".into());
+    }
+    let c = mesh[mesh[mesh[h].next].next].vertex;
+    let d = mesh[mesh[mesh[t].next].next].vertex;
+    if c == d {
+        return Some(format!(
+            "vertex {} faces it on both sides, so the flip would join it to itself",
+            c.index() + 1
+        ));
+    }
+    if mesh.find_edge(c, d).is_some() {
+        return Some(format!(
+            "vertices {} and {}, which face it, are already joined by an edge, so the flip \
+             would make a second edge between them (on a tetrahedron, every edge is like this)",
+            c.index() + 1,
+            d.index() + 1
+        ));
+    }
+    None
 }
 
 /// OBJ vertex numbers (from 1) to indices (from 0).
 fn obj_edge(mesh: &Mesh, a: usize, b: usize) -> Result<[usize; 2], String> {
     let n = mesh.num_vertices();
+    if a == b {
+        return Err(format!(
+            "vertex {a} given twice: an edge joins two different vertices"
+        ));
+    }
     for v in [a, b] {
         if v == 0 || v > n {
             return Err(format!(
@@ -253,9 +394,19 @@ fn obj_with_edge(path: &Path, a: usize, b: usize) -> Result<(Mesh, halfedge::Edg
     Ok((mesh, e))
 }
 
-fn write_obj(mesh: &Mesh, path: &Path) -> Result<(), String> {
-    mesh.validate()
-        .map_err(|e| format!("the reference broke the mesh: {e}"))?;
+/// Writes the result of `what` on `input`, after checking it.
+fn write_obj(mesh: &Mesh, input: &Path, what: &str, path: &Path) -> Result<(), String> {
+    // The reader refuses every degenerate input the reference is known to
+    // trip on; if one still gets through, say so rather than guess who is
+    // to blame.
+    mesh.validate().map_err(|e| {
+        format!(
+            "{}: the result of {what} does not validate ({e}); the input passed every check \
+             of the reader, so either it is degenerate in a way they miss or the reference \
+             has a bug: please report it with the file",
+            input.display()
+        )
+    })?;
     mesh.write_obj_file(path)
         .map_err(|e| format!("{}: {e}", path.display()))
 }
@@ -324,17 +475,25 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 }
                 (_, _, rounds) => {
                     let rounds = rounds.unwrap_or(1);
-                    if rounds == 0 {
-                        return Err("--subdivide 0 tests nothing".into());
-                    }
+                    check_rounds("--subdivide", rounds, &mesh, MAX_FIXTURE_FACES)?;
                     (
                         Operation::Subdivide { rounds },
                         format!("subdivide-{rounds}"),
                     )
                 }
             };
-            if !(tolerance > 0.0 && tolerance.is_finite()) {
-                return Err("--tolerance must be a positive number".into());
+            check_tolerance(tolerance, &mesh)?;
+            if let Operation::Flip { edge: [i, j] } = operation {
+                let e = mesh.edge_between(i, j).expect("obj_edge checked it exists");
+                if let Some(why) = flip_refusal(&mesh, e) {
+                    let what = format!("the edge {}-{} cannot be flipped: {why}", i + 1, j + 1);
+                    // A refused flip is a fine case (it expects None); one
+                    // the reference would carry out anyway makes no case.
+                    if solution::flip_edge(&mut mesh.clone(), e).is_some() {
+                        return Err(what);
+                    }
+                    eprintln!("note: {what}; the case expects None and the mesh unchanged");
+                }
             }
             let name = name.unwrap_or_else(|| format!("{stem}-{suffix}"));
             if name.is_empty()
@@ -379,6 +538,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             weights,
         } => {
             let mut mesh = read_obj(&input)?;
+            check_rounds("--rounds", rounds, &mesh, MAX_SUBDIVIDE_FACES)?;
             if let Some(f) = mesh.first_non_triangle() {
                 return Err(format!(
                     "{}: subdivision needs triangles, but face {} has {} sides",
@@ -390,7 +550,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             for _ in 0..rounds {
                 solution::loop_subdivide_with(&mut mesh, Weights::from(weights.weights));
             }
-            write_obj(&mesh, &output)?;
+            write_obj(&mesh, &input, "subdivision", &output)?;
             println!(
                 "wrote {} ({} vertices, {} faces)",
                 output.display(),
@@ -406,10 +566,14 @@ fn run(command: Command) -> Result<ExitCode, String> {
             output,
         } => {
             let (mut mesh, e) = obj_with_edge(&input, a, b)?;
-            if solution::flip_edge(&mut mesh, e).is_none() {
-                return Err(format!("the edge {a}-{b} cannot be flipped: it is on the boundary or not between two triangles"));
+            // Checked here too, so that the message says why.
+            if let Some(why) = flip_refusal(&mesh, e) {
+                return Err(format!("the edge {a}-{b} cannot be flipped: {why}"));
             }
-            write_obj(&mesh, &output)?;
+            if solution::flip_edge(&mut mesh, e).is_none() {
+                return Err(format!("the edge {a}-{b} cannot be flipped"));
+            }
+            write_obj(&mesh, &input, "the flip", &output)?;
             println!("wrote {}", output.display());
             Ok(ExitCode::SUCCESS)
         }
@@ -425,7 +589,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     "the edge {a}-{b} cannot be split: a face beside it is not a triangle"
                 ));
             };
-            write_obj(&mesh, &output)?;
+            write_obj(&mesh, &input, "the split", &output)?;
             println!(
                 "wrote {} (the new vertex is {})",
                 output.display(),

@@ -28,8 +28,14 @@ pub enum MeshError {
     },
     /// A face with fewer than three corners.
     TooFewVertices { face: usize, count: usize },
+    /// A face that lists the same vertex twice in a row, which would make
+    /// an edge from that vertex to itself.
+    EdgeToItself { face: usize, vertex: usize },
     /// A face that visits the same vertex twice.
     RepeatedVertex { face: usize, vertex: usize },
+    /// Two faces with the same vertices: the same polygon twice (with
+    /// opposite windings they would close into a flat two-faced "pillow").
+    DuplicateFace { first: usize, second: usize },
     /// An edge used by more than two faces.
     EdgeSharedByMoreThanTwoFaces {
         a: usize,
@@ -65,7 +71,9 @@ impl MeshError {
         match *self {
             MeshError::IndexOutOfRange { face, .. }
             | MeshError::TooFewVertices { face, .. }
+            | MeshError::EdgeToItself { face, .. }
             | MeshError::RepeatedVertex { face, .. } => Some(face),
+            MeshError::DuplicateFace { second, .. } => Some(second),
             MeshError::EdgeSharedByMoreThanTwoFaces { ref faces, .. } => faces.last().copied(),
             MeshError::InconsistentOrientation { second, .. } => Some(second),
             _ => None,
@@ -85,7 +93,8 @@ impl MeshError {
     /// The message with vertex and face numbers counted from `base` (0 for
     /// indexed faces, 1 for OBJ files).
     pub fn describe(&self, base: usize) -> String {
-        let n = |i: usize| i + base;
+        // Saturating: an absurd index in the input must not overflow here.
+        let n = |i: usize| i.saturating_add(base);
         match self {
             MeshError::Empty => {
                 "the mesh is empty: it needs at least one vertex and one face".into()
@@ -110,6 +119,18 @@ impl MeshError {
             MeshError::TooFewVertices { face, count } => format!(
                 "face {} has {count} vertices; a face needs at least 3",
                 n(*face)
+            ),
+            MeshError::EdgeToItself { face, vertex } => format!(
+                "face {} lists vertex {} twice in a row: that would be an edge from a vertex \
+                 to itself",
+                n(*face),
+                n(*vertex)
+            ),
+            MeshError::DuplicateFace { first, second } => format!(
+                "face {} duplicates face {}: both use the same vertices (a polygon may appear \
+                 only once)",
+                n(*second),
+                n(*first)
             ),
             MeshError::RepeatedVertex { face, vertex } => format!(
                 "face {} uses vertex {} more than once",
@@ -320,6 +341,7 @@ fn check_faces(positions: &[DVec3], faces: &[Vec<usize>]) -> Result<(), MeshErro
         return Err(MeshError::NonFiniteCoordinate { vertex });
     }
     let mut used = vec![false; positions.len()];
+    let mut seen_in = vec![usize::MAX; positions.len()];
     for (face, corners) in faces.iter().enumerate() {
         if corners.len() < 3 {
             return Err(MeshError::TooFewVertices {
@@ -327,22 +349,46 @@ fn check_faces(positions: &[DVec3], faces: &[Vec<usize>]) -> Result<(), MeshErro
                 count: corners.len(),
             });
         }
-        for (i, &index) in corners.iter().enumerate() {
-            if index >= positions.len() {
-                return Err(MeshError::IndexOutOfRange {
-                    face,
-                    index,
-                    vertex_count: positions.len(),
-                });
+        if let Some(&index) = corners.iter().find(|&&i| i >= positions.len()) {
+            return Err(MeshError::IndexOutOfRange {
+                face,
+                index,
+                vertex_count: positions.len(),
+            });
+        }
+        // Twice in a row first: it is the more specific message.
+        for (i, &a) in corners.iter().enumerate() {
+            if a == corners[(i + 1) % corners.len()] {
+                return Err(MeshError::EdgeToItself { face, vertex: a });
             }
-            if corners[..i].contains(&index) {
+        }
+        // `seen_in[v]` is the last face that used v: linear even for a face
+        // with very many corners.
+        for &index in corners {
+            if seen_in[index] == face {
                 return Err(MeshError::RepeatedVertex {
                     face,
                     vertex: index,
                 });
             }
+            seen_in[index] = face;
             used[index] = true;
         }
+    }
+
+    // Before the edges: a duplicate would otherwise be reported as
+    // disagreeing orientations, or not at all (the two-faced pillow).
+    let mut by_vertices: HashMap<Vec<usize>, usize> = HashMap::new();
+    for (face, corners) in faces.iter().enumerate() {
+        let mut key = corners.clone();
+        key.sort_unstable();
+        if let Some(&first) = by_vertices.get(&key) {
+            return Err(MeshError::DuplicateFace {
+                first,
+                second: face,
+            });
+        }
+        by_vertices.insert(key, face);
     }
 
     let mut by_edge: HashMap<(usize, usize), Vec<usize>> = HashMap::new();

@@ -6,7 +6,7 @@
 
 use std::fmt;
 
-use crate::ids::{Element, VertexId};
+use crate::ids::{Element, FaceId, VertexId};
 use crate::mesh::Mesh;
 
 /// The first problem `validate()` found: the element and what is wrong.
@@ -200,6 +200,21 @@ impl Mesh {
         for f in self.face_ids() {
             if self.face_degree(f) < 3 {
                 return fail(f, "A face has fewer than three sides!");
+            }
+        }
+        for h in self.halfedge_ids() {
+            if self[h].vertex == self.halfedge_dst(h) {
+                return fail(h, "A halfedge starts and ends at the same vertex!");
+            }
+        }
+        // `last_face[v]` is the last face seen at v: one pass over all faces.
+        let mut last_face = vec![FaceId::NONE; self.num_vertices()];
+        for f in self.face_ids() {
+            for v in self.face_vertices(f) {
+                if last_face[v.index()] == f {
+                    return fail(f, "A face visits the same vertex more than once!");
+                }
+                last_face[v.index()] = f;
             }
         }
         // Two edges joining the same pair of vertices.

@@ -60,6 +60,92 @@ fn repeated_vertex() {
 }
 
 #[test]
+fn edge_from_a_vertex_to_itself() {
+    // `f 3 3 1` in a file: vertex 2 twice in a row, also across the wrap.
+    for (face, v) in [(vec![2, 2, 0], 2), (vec![0, 1, 2, 0], 0)] {
+        let e = build_err(&square(), &[vec![0, 1, 3], face]);
+        assert_eq!(e, MeshError::EdgeToItself { face: 1, vertex: v });
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "face 1 lists vertex {v} twice in a row: that would be an edge from a vertex \
+                 to itself"
+            )
+        );
+    }
+}
+
+#[test]
+fn duplicate_faces_are_called_duplicates() {
+    let p = square();
+    // The same triangle twice, same winding: once said "orientations disagree".
+    let same = build_err(&p, &[vec![0, 1, 2], vec![0, 2, 3], vec![1, 2, 0]]);
+    assert_eq!(
+        same,
+        MeshError::DuplicateFace {
+            first: 0,
+            second: 2
+        }
+    );
+    assert_eq!(
+        same.to_string(),
+        "face 2 duplicates face 0: both use the same vertices (a polygon may appear only once)"
+    );
+    // The "pillow": the same triangle with opposite windings is closed and
+    // consistently oriented, so it used to be accepted, and flipping any of
+    // its edges made an edge from a vertex to itself.
+    let pillow = build_err(&p[..3], &[vec![0, 1, 2], vec![0, 2, 1]]);
+    assert_eq!(
+        pillow,
+        MeshError::DuplicateFace {
+            first: 0,
+            second: 1
+        }
+    );
+}
+
+#[test]
+fn two_edges_between_the_same_vertices_cannot_be_built() {
+    // An indexed face list names an edge by its two vertices, so a second
+    // edge between them can only come from a third face on it or a second
+    // face running the same way; both are refused naming the vertices.
+    let mut p = square();
+    p.push(DVec3::new(0.5, 0.5, 1.0));
+    let third = build_err(&p, &[vec![0, 1, 2], vec![2, 1, 4], vec![1, 2, 3]]);
+    assert!(
+        matches!(
+            third,
+            MeshError::EdgeSharedByMoreThanTwoFaces { a: 1, b: 2, .. }
+        ),
+        "{third:?}"
+    );
+    let same_way = build_err(&p, &[vec![0, 1, 2], vec![1, 2, 4]]);
+    assert!(
+        same_way.to_string().contains("from vertex 1 to vertex 2"),
+        "{same_way}"
+    );
+}
+
+#[test]
+fn absurd_indices_do_not_overflow_the_message() {
+    let e = build_err(&square(), &[vec![0, 1, usize::MAX]]);
+    assert!(e.describe(1).contains("refers to vertex"), "{e}");
+}
+
+#[test]
+fn a_face_with_many_corners_is_checked_in_linear_time() {
+    // A quadratic repeated-vertex scan would take minutes here.
+    let n = 200_000;
+    let p: Vec<DVec3> = (0..n)
+        .map(|i| DVec3::new(i as f64, (i % 7) as f64, 0.0))
+        .collect();
+    let mut big: Vec<usize> = (0..n).collect();
+    big.push(5);
+    let e = build_err(&p, &[big]);
+    assert_eq!(e, MeshError::RepeatedVertex { face: 0, vertex: 5 });
+}
+
+#[test]
 fn edge_shared_by_three_faces() {
     let mut p = square();
     p.push(DVec3::new(0.5, 0.5, 1.0));
@@ -180,7 +266,8 @@ fn obj_errors_name_the_line_and_use_file_numbers() {
     );
     assert_eq!(
         obj_err("# a comment\nv 0 0\n"),
-        "t.obj:2: a vertex needs three coordinates, found 2: `v 0 0`"
+        "t.obj:2: a vertex needs three coordinates (four with a weight, six with a colour), \
+         found 2: `v 0 0`"
     );
     assert_eq!(
         obj_err(&format!("{TRI}f 1 2 x\n")),
@@ -188,11 +275,12 @@ fn obj_errors_name_the_line_and_use_file_numbers() {
     );
     assert_eq!(
         obj_err(&format!("{TRI}f 0 1 2\n")),
-        "t.obj:4: vertex references start at 1 (or -1 for the last); 0 is not one"
+        "t.obj:4: vertex references start at 1 (or -1 for the last); 0 is not one: `f 0 1 2`"
     );
     assert_eq!(
         obj_err(&format!("{TRI}f -1 -2 -4\n")),
-        "t.obj:4: `-4` counts back past the first vertex (only 3 are defined above this line)"
+        "t.obj:4: `-4` counts back past the first vertex (only 3 are defined above this line): \
+         `f -1 -2 -4`"
     );
     // Errors found while building give the face's line and 1-based numbers.
     assert_eq!(

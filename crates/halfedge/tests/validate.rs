@@ -239,6 +239,111 @@ fn face_with_two_sides() {
     assert_invalid(&m, FaceId(0), "A face has fewer than three sides!");
 }
 
+/// Links polygons by hand, with no checks: each `(cycle, is_boundary)` is a
+/// face; halfedge a->b is twinned with b->a. Lets a test build the shapes
+/// the builder refuses.
+fn link_by_hand(positions: &[DVec3], faces: &[(&[usize], bool)]) -> Mesh {
+    let mut m = Mesh::new();
+    for &p in positions {
+        m.new_vertex(p);
+    }
+    let mut by_ends = std::collections::HashMap::new();
+    for &(cycle, is_boundary) in faces {
+        let f = m.new_face();
+        m[f].is_boundary = is_boundary;
+        let hs: Vec<HalfedgeId> = cycle.iter().map(|_| m.new_halfedge()).collect();
+        for (i, &h) in hs.iter().enumerate() {
+            let (a, b) = (cycle[i], cycle[(i + 1) % cycle.len()]);
+            m[h].next = hs[(i + 1) % hs.len()];
+            m[h].vertex = VertexId::from_index(a);
+            m[h].face = f;
+            m[VertexId::from_index(a)].halfedge = h;
+            by_ends.insert((a, b), h);
+        }
+        m[f].halfedge = hs[0];
+    }
+    for h in m.halfedge_ids() {
+        if m[h].edge.is_none() {
+            let a = m[h].vertex.index();
+            let b = m[m[h].next].vertex.index();
+            let t = by_ends[&(b, a)];
+            let e = m.new_edge();
+            m[e].halfedge = h;
+            m[h].edge = e;
+            m[t].edge = e;
+            m[h].twin = t;
+            m[t].twin = h;
+        }
+    }
+    m
+}
+
+/// The relinking of a flip (as the reference does it), with no checks.
+fn flip_by_hand(m: &mut Mesh, e: EdgeId) {
+    let h = m[e].halfedge;
+    let t = m[h].twin;
+    let (h1, t1) = (m[h].next, m[t].next);
+    let (h2, t2) = (m[h1].next, m[t1].next);
+    let (a, b) = (m[h].vertex, m[t].vertex);
+    let (c, d) = (m[h2].vertex, m[t2].vertex);
+    let (f0, f1) = (m[h].face, m[t].face);
+    m.set_neighbors(h, h2, t, d, e, f0);
+    m.set_neighbors(h2, t1, m[h2].twin, c, m[h2].edge, f0);
+    m.set_neighbors(t1, h, m[t1].twin, a, m[t1].edge, f0);
+    m.set_neighbors(t, t2, h, c, e, f1);
+    m.set_neighbors(t2, h1, m[t2].twin, d, m[t2].edge, f1);
+    m.set_neighbors(h1, t, m[h1].twin, b, m[h1].edge, f1);
+    m[a].halfedge = t1;
+    m[b].halfedge = h1;
+    m[f0].halfedge = h;
+    m[f1].halfedge = t;
+}
+
+#[test]
+fn halfedge_from_a_vertex_to_itself() {
+    // The "pillow": one triangle twice, opposite windings. Its links are
+    // consistent (the builder refuses it as a duplicate face), and flipping
+    // an edge joins the vertex facing it on both sides to itself, which
+    // validate() once let through.
+    let p = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    let mut m = link_by_hand(&p, &[(&[0, 1, 2], false), (&[1, 0, 2], false)]);
+    m.validate().unwrap();
+    let e = m.edge_between(0, 1).unwrap();
+    flip_by_hand(&mut m, e);
+    assert_invalid(
+        &m,
+        m[e].halfedge,
+        "A halfedge starts and ends at the same vertex!",
+    );
+}
+
+#[test]
+fn face_visiting_a_vertex_twice() {
+    // A bow tie: two triangles touching at vertex 0, with one hole around
+    // both that passes through vertex 0 twice. Every link is consistent and
+    // vertex 0's halfedges form one fan through the hole.
+    let p = [
+        DVec3::ZERO,
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(-1.0, 0.0, 0.0),
+        DVec3::new(-1.0, -1.0, 0.0),
+    ];
+    let m = link_by_hand(
+        &p,
+        &[
+            (&[0, 1, 2], false),
+            (&[0, 3, 4], false),
+            (&[0, 2, 1, 0, 4, 3], true),
+        ],
+    );
+    assert_invalid(
+        &m,
+        FaceId(2),
+        "A face visits the same vertex more than once!",
+    );
+}
+
 #[test]
 fn corrupted_cycles_are_reported_not_looped_on() {
     // next of every halfedge pointing to itself, twin cycles of length 3:
