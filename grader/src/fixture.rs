@@ -194,16 +194,31 @@ pub fn mesh_size(positions: &[[f64; 3]]) -> f64 {
     (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
-/// Why a tolerance is out of range for a mesh of this size, if it is.
+/// Why a tolerance is out of range for a mesh of this size, if it is: "must
+/// be between LO and HI for this mesh (...)". The bounds are compared as
+/// printed (4 digits), so a value copied from the message is accepted.
 pub fn tolerance_problem(tolerance: f64, size: f64) -> Option<String> {
-    let (lo, hi) = (TOLERANCE_RANGE.0 * size, TOLERANCE_RANGE.1 * size);
-    if tolerance.is_finite() && tolerance >= lo && tolerance <= hi {
+    if !(size > 0.0 && size.is_finite()) {
+        return Some(format!(
+            "the mesh has no size to measure a tolerance against (the diagonal of its bounding \
+             box is {size}): all its vertices are at one point"
+        ));
+    }
+    let shown = |x: f64| format!("{x:.3e}");
+    let (lo, hi) = (
+        shown(TOLERANCE_RANGE.0 * size),
+        shown(TOLERANCE_RANGE.1 * size),
+    );
+    let (lo_f, hi_f): (f64, f64) = (lo.parse().unwrap_or(0.0), hi.parse().unwrap_or(0.0));
+    if lo_f <= tolerance && tolerance <= hi_f {
         return None;
     }
     Some(format!(
-        "tolerance {tolerance} is out of range: it must be between {lo:e} and {hi:e} \
-         ({:e} to {:e} of the mesh's size, {size})",
-        TOLERANCE_RANGE.0, TOLERANCE_RANGE.1
+        "must be between {lo} and {hi} for this mesh ({:e} to {:e} of its size, the diagonal \
+         of its bounding box, {})",
+        TOLERANCE_RANGE.0,
+        TOLERANCE_RANGE.1,
+        shown(size)
     ))
 }
 
@@ -275,7 +290,10 @@ impl Fixture {
             return Err("a position is not a finite number".into());
         }
         if let Some(problem) = tolerance_problem(self.tolerance, mesh_size(&self.input.positions)) {
-            return Err(problem);
+            return Err(format!(
+                "tolerance {} is out of range: {problem}",
+                self.tolerance
+            ));
         }
         if let Some(face) = self
             .input

@@ -369,7 +369,7 @@ fn refusal_reason(f: &Fixture) -> &'static str {
     } else if on_boundary(f) {
         "a boundary edge"
     } else {
-        "an edge it must refuse"
+        "an edge whose flip would join two vertices already joined by an edge"
     }
 }
 

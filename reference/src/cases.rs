@@ -325,6 +325,25 @@ fn contract_cases(out: &mut Vec<Case>, weights: Weights) {
         Operation::Subdivide { rounds: 1 },
         weights,
     ));
+    // Every edge of a tetrahedron: flipping it would join two vertices
+    // already joined.
+    let tetra = mesh_of(
+        &[
+            [1.0, 1.0, 1.0],
+            [1.0, -1.0, -1.0],
+            [-1.0, 1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+        ],
+        &[&[0, 1, 2], &[0, 3, 1], &[0, 2, 3], &[1, 3, 2]],
+    );
+    out.push(case(
+        "tetrahedron-flip",
+        "tetrahedron",
+        Group::Bonus,
+        &tetra,
+        Operation::Flip { edge: [0, 1] },
+        weights,
+    ));
     let object = "pentagonal pyramid";
     out.push(case(
         "pentagon-pyramid-flip",
@@ -466,8 +485,12 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
             None
         }
     };
-    mesh.validate()
-        .map_err(|e| format!("the reference broke the mesh: {e}"))?;
+    mesh.validate().map_err(|e| {
+        format!(
+            "the result does not validate ({e}): the input passed every check of the reader \
+                 and builder, so it is degenerate in a way they miss, or the reference has a bug"
+        )
+    })?;
     let mut expected = Expected {
         returns,
         positions: positions(&mesh),

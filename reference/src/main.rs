@@ -235,9 +235,6 @@ const MAX_ROUNDS: usize = 10;
 const MAX_SUBDIVIDE_FACES: usize = 2_000_000;
 /// Most faces a fixture from `add` may expect: every grade reads the file.
 const MAX_FIXTURE_FACES: usize = 50_000;
-/// A tolerance lies between these fractions of the mesh's size: below, f64
-/// rounding alone would fail a correct answer; above, wrong ones pass.
-const TOLERANCE_FRACTIONS: (f64, f64) = (1e-12, 1e-2);
 /// Reader warnings printed one by one; the summary line counts them all.
 const MAX_WARNINGS_SHOWN: usize = 10;
 
@@ -291,47 +288,15 @@ fn check_rounds(flag: &str, rounds: usize, mesh: &Mesh, max_faces: usize) -> Res
     Ok(())
 }
 
-/// The diagonal of the mesh's bounding box.
-fn mesh_size(mesh: &Mesh) -> f64 {
-    let ps = mesh.positions();
-    let lo = ps
-        .iter()
-        .copied()
-        .fold(halfedge::DVec3::INFINITY, |a, b| a.min(b));
-    let hi = ps
-        .iter()
-        .copied()
-        .fold(halfedge::DVec3::NEG_INFINITY, |a, b| a.max(b));
-    (hi - lo).length()
-}
-
-/// Checks a tolerance against [`TOLERANCE_FRACTIONS`] of the mesh's size.
+/// Checks a tolerance against the range fixtures allow (the grader's own
+/// rule, [`fixture::TOLERANCE_RANGE`] of the mesh's size): below, f64
+/// rounding alone would fail a correct answer; above, wrong ones pass.
 fn check_tolerance(tolerance: f64, mesh: &Mesh) -> Result<(), String> {
-    let size = mesh_size(mesh);
-    if !(size > 0.0 && size.is_finite()) {
-        return Err(format!(
-            "the mesh has no size to measure a tolerance against (the diagonal of its bounding \
-             box is {size}): all its vertices are at one point"
-        ));
+    let positions: Vec<[f64; 3]> = mesh.positions().iter().map(|p| p.to_array()).collect();
+    match fixture::tolerance_problem(tolerance, fixture::mesh_size(&positions)) {
+        None => Ok(()),
+        Some(problem) => Err(format!("--tolerance {tolerance}: {problem}")),
     }
-    // Compare with the bounds as printed, so that a value copied from the
-    // message is accepted.
-    let shown = |x: f64| format!("{x:.3e}");
-    let (lo, hi) = (
-        shown(TOLERANCE_FRACTIONS.0 * size),
-        shown(TOLERANCE_FRACTIONS.1 * size),
-    );
-    let (lo_f, hi_f): (f64, f64) = (lo.parse().unwrap_or(0.0), hi.parse().unwrap_or(0.0));
-    if !(lo_f <= tolerance && tolerance <= hi_f) {
-        return Err(format!(
-            "--tolerance {tolerance}: must be between {lo} and {hi} for this mesh \
-             ({:e} to {:e} of its size, the diagonal of its bounding box, {})",
-            TOLERANCE_FRACTIONS.0,
-            TOLERANCE_FRACTIONS.1,
-            shown(size)
-        ));
-    }
-    Ok(())
 }
 
 /// Why edge `e` cannot be flipped, if it cannot: on the boundary, beside a

@@ -93,6 +93,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", with(Some(flip_face_labels), None, Some(sub_flip_face_labels))),
         e("flip-boundary", "flip_edge does not refuse boundary edges", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
         e("flip-index-panic", "flip_edge indexes past the end of a Vec", with(Some(flip_index_panic), None, None)),
+        e("flip-duplicates", "flip_edge does not refuse a flip whose new edge exists already", with(Some(flip_without_duplicate_check), None, None)),
         e("split-not-midpoint", "split_edge puts the new vertex a third of the way", with(None, Some(split_third), Some(sub_split_third))),
         e("split-vertex-across", "split_edge points the new vertex's halfedge across, not along", with(None, Some(split_vertex_across), Some(sub_split_vertex_across))),
         e("split-none", "split_edge always returns None", with(None, Some(|_, _| None), None)),
@@ -415,10 +416,23 @@ fn sub_flip_all_new(mesh: &mut Mesh) {
     split_old(mesh, solution::split_edge);
     for e in mesh.edge_ids() {
         if mesh[e].is_new {
-            solution::flip_edge(mesh, e);
+            flip_without_duplicate_check(mesh, e);
         }
     }
     solution::move_vertices(mesh);
+}
+
+/// A flip as students usually write it: boundary and triangles checked, but
+/// not whether the new edge exists already. The wrong subdivisions flip
+/// with it, so their broken results stay what a student would get.
+fn flip_without_duplicate_check(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let triangle = |g: HalfedgeId| mesh[mesh[mesh[g].next].next].next == g;
+    if mesh.edge_on_boundary(e) || !triangle(h) || !triangle(mesh[h].twin) {
+        return None;
+    }
+    solution::relink_flip(mesh, e);
+    Some(e)
 }
 
 fn sub_flip_halves(mesh: &mut Mesh) {
@@ -434,7 +448,7 @@ fn sub_flip_halves(mesh: &mut Mesh) {
         }
     }
     let all: Vec<EdgeId> = mesh.edge_ids().collect();
-    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::flip_old_new(mesh, &all, flip_without_duplicate_check);
     solution::move_vertices(mesh);
 }
 

@@ -65,6 +65,13 @@ pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     if !is_triangle(mesh, h) || !is_triangle(mesh, t) {
         return None;
     }
+    // c and d already joined (every edge of a tetrahedron): the flip would
+    // make a second edge between them.
+    let c = mesh[mesh[mesh[h].next].next].vertex;
+    let d = mesh[mesh[mesh[t].next].next].vertex;
+    if c == d || mesh.find_edge(c, d).is_some() {
+        return None;
+    }
     relink_flip(mesh, e);
     Some(e)
 }

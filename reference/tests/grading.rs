@@ -108,6 +108,7 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("flip-any-face", "quad-box-flip", "flip_edge changed an edge beside a face that is not a triangle: it must return None and leave the mesh unchanged", None),
     ("subdivide-skips-quads", "quad-box-subdivide-1", "loop_subdivide returned, but the mesh has a face that is not a triangle: it must panic with a message that says so", None),
     ("flip-index-panic", "pentagon-pyramid-flip", "flip_edge panicked: index out of bounds", None),
+    ("flip-duplicates", "tetrahedron-flip", "flip_edge changed an edge whose flip would join two vertices already joined by an edge: it must return None and leave the mesh unchanged", None),
     // Faults named for what they are.
     ("nan-position", "cube-subdivide-1", "the result of subdivision is a invalid mesh: vertex v13 is at (0.375, NaN, -0.125): a position must be a finite number", None),
     ("forge-frames", "cube-subdivide-1", "number of vertices is wrong: 8 (should be 26)", None),
