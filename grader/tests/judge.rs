@@ -538,7 +538,7 @@ fn fixture_files_round_trip_and_bad_ones_are_named() {
             )
         });
         assert!(
-            e.contains("is out of range: it must be between"),
+            e.contains("is out of range: must be between"),
             "{absurd}: {e}"
         );
     }
