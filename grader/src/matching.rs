@@ -42,8 +42,14 @@ impl Grid {
         (-1..=1).flat_map(move |dx| {
             (-1..=1).flat_map(move |dy| {
                 (-1..=1).flat_map(move |dz| {
+                    // Saturating: a finite but huge coordinate (1e300) has a
+                    // cell at the end of i64's range.
                     self.cells
-                        .get(&[c[0] + dx, c[1] + dy, c[2] + dz])
+                        .get(&[
+                            c[0].saturating_add(dx),
+                            c[1].saturating_add(dy),
+                            c[2].saturating_add(dz),
+                        ])
                         .into_iter()
                         .flatten()
                         .copied()
@@ -319,6 +325,16 @@ mod tests {
         assert_eq!(m.to_expected[0], Some(3));
         assert_eq!(m.to_expected[3], Some(0));
         assert!(diff_edges(&mapped_edges(&student_edges, &m), &expected_edges).is_empty());
+    }
+
+    #[test]
+    fn huge_coordinates_do_not_overflow_the_grid() {
+        let expected = [[0.0; 3], [1.0, 0.0, 0.0]];
+        let student = [[1e300, -1e300, 0.0], [1.0, 0.0, 0.0]];
+        let m = match_vertices(&student, &expected, 1e-5);
+        assert_eq!(m.to_expected, vec![None, Some(1)]);
+        let m = match_by_neighbourhood(&student, &[[0, 1]], &expected, &[[0, 1]], 1e-5);
+        assert_eq!(m.unmatched_expected, vec![0]);
     }
 
     #[test]
