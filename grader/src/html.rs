@@ -1196,10 +1196,7 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     }
     let id = |i: usize| id_of.get(i).copied().flatten();
 
-    let cmp = yours
-        .as_ref()
-        .filter(|_| !r.passed)
-        .map(|y| compare(f, y, &expected));
+    let cmp = yours.as_ref().map(|y| compare(f, y, &expected));
     let mut notes = Vec::new();
 
     // Input: the case's edge.
@@ -1281,7 +1278,8 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             .focus_points
             .extend(new_vertex.and_then(student_of));
     }
-    if let (Some(c), Some(y)) = (&cmp, &yours) {
+    // Red only on a failure (a pass may differ within the tolerance).
+    if let (Some(c), Some(y), false) = (&cmp, &yours, r.passed) {
         for (s, e) in c.matched.iter().enumerate() {
             let Some(p) = y.point(s).filter(|_| e.is_none()) else {
                 continue;
