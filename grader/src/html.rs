@@ -49,8 +49,28 @@ fn pair(a: usize, b: usize) -> [usize; 2] {
     [a.min(b), a.max(b)]
 }
 
+/// A position as the grader's messages print it; huge coordinates (a
+/// student's vertex can be anywhere) in exponent form.
 fn fmt_p(p: DVec3) -> String {
-    format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z)
+    let n = |x: f64| {
+        if x.abs() < 1e7 {
+            format!("{x:.6}")
+        } else {
+            format!("{x:.3e}")
+        }
+    };
+    format!("({}, {}, {})", n(p.x), n(p.y), n(p.z))
+}
+
+/// A distance, `far` past what a float can say.
+fn fmt_d(d: f64) -> String {
+    if d < 1e7 {
+        format!("{d:.6}")
+    } else if d.is_finite() {
+        format!("{d:.3e}")
+    } else {
+        "too far to say how".to_string()
+    }
 }
 
 fn escape(text: &str) -> String {
@@ -406,10 +426,100 @@ struct Marks {
     /// The case's edge or new vertex, orange.
     focus_edges: Vec<[usize; 2]>,
     focus_points: Vec<usize>,
+    /// Elements the messages name (`v7`, `e229`, `h40`, `f3`), purple.
+    named: Vec<Named>,
     /// A vertex's label (the student's id), for small meshes.
     labels: Vec<Option<String>>,
     /// The `data-kind` of this picture's red markers: `yours`, `expected`.
     side: &'static str,
+}
+
+/// An element a message names, found in the mesh it names it in.
+#[derive(Clone, Debug)]
+enum Named {
+    Vertex(usize, String),
+    /// An edge or a halfedge: its two ends.
+    Edge([usize; 2], String),
+    /// A face: its corners, as far as its `next` walk goes.
+    Face(Vec<usize>, String),
+}
+
+/// The most named elements drawn per case.
+const NAMED_LIMIT: usize = 12;
+
+/// The element ids in `texts`, in order, each once: `v7`, `e229`, `h40`,
+/// `f3`, as the halfedge crate prints them.
+fn element_names(texts: &[&str]) -> Vec<(char, usize)> {
+    let mut found = Vec::new();
+    for text in texts {
+        let chars: Vec<char> = text.chars().collect();
+        let mut i = 0;
+        while i < chars.len() {
+            let starts = i == 0 || !chars[i - 1].is_alphanumeric() && chars[i - 1] != '_';
+            if starts && matches!(chars[i], 'v' | 'e' | 'h' | 'f') {
+                let digits: String = chars[i + 1..]
+                    .iter()
+                    .take_while(|c| c.is_ascii_digit())
+                    .collect();
+                let after = chars.get(i + 1 + digits.len());
+                let ends = after.is_none_or(|c| !c.is_alphanumeric() && *c != '_');
+                if !digits.is_empty() && ends {
+                    if let Ok(n) = digits.parse::<usize>() {
+                        if !found.contains(&(chars[i], n)) {
+                            found.push((chars[i], n));
+                        }
+                    }
+                }
+                i += 1 + digits.len();
+            } else {
+                i += 1;
+            }
+        }
+    }
+    found
+}
+
+/// Finds named elements in `mesh`, every id bounds-checked.
+fn resolve_names(mesh: &Mesh, names: &[(char, usize)]) -> Vec<Named> {
+    let (vertices, edges, faces, halfedges) = mesh.records();
+    let nv = vertices.len();
+    let ends = |h: usize| -> Option<[usize; 2]> {
+        let record = halfedges.get(h)?;
+        let to = halfedges
+            .get(record.twin.index())
+            .or_else(|| halfedges.get(record.next.index()))?;
+        let (a, b) = (record.vertex.index(), to.vertex.index());
+        (a < nv && b < nv && a != b).then_some([a, b])
+    };
+    names
+        .iter()
+        .filter_map(|&(kind, n)| {
+            let name = format!("{kind}{n}");
+            match kind {
+                'v' if n < nv => Some(Named::Vertex(n, name)),
+                'e' => Some(Named::Edge(ends(edges.get(n)?.halfedge.index())?, name)),
+                'h' => Some(Named::Edge(ends(n)?, name)),
+                'f' => {
+                    let start = faces.get(n)?.halfedge.index();
+                    let mut corners = Vec::new();
+                    let mut h = start;
+                    while let Some(record) = halfedges.get(h) {
+                        if record.vertex.index() >= nv || corners.len() >= MAX_DEGREE {
+                            break;
+                        }
+                        corners.push(record.vertex.index());
+                        h = record.next.index();
+                        if h == start {
+                            break;
+                        }
+                    }
+                    (corners.len() >= 2).then_some(Named::Face(corners, name))
+                }
+                _ => None,
+            }
+        })
+        .take(NAMED_LIMIT)
+        .collect()
 }
 
 /// The student's result compared with the expected one, for marking: the
@@ -932,6 +1042,41 @@ fn draw(out: &mut String, cam: &Camera, p: &Prepared, marks: &Marks, caption: &s
         };
         batch(out, class, &dots);
     }
+    // What the messages name.
+    for named in &marks.named {
+        let (pts, name, closed): (Vec<Screen>, &str, bool) = match named {
+            Named::Vertex(v, name) => (at(*v).into_iter().collect(), name, false),
+            Named::Edge([a, b], name) => (at(*a).into_iter().chain(at(*b)).collect(), name, false),
+            Named::Face(corners, name) => (
+                corners.iter().filter_map(|&v| at(v)).collect(),
+                name,
+                corners.len() > 2,
+            ),
+        };
+        let Some(&first) = pts.first() else { continue };
+        let _ = write!(
+            out,
+            "<g class=\"named\" data-name=\"{name}\"><title>{name}, named in the messages</title>"
+        );
+        if pts.len() == 1 {
+            circle(out, first, 6.5, "", None);
+        } else {
+            out.push_str("<path d=\"");
+            polyline(out, &pts, closed);
+            out.push_str("\"/>");
+        }
+        let n = pts.len() as f64;
+        let mid = Screen {
+            x: pts.iter().map(|s| s.x).sum::<f64>() / n,
+            y: pts.iter().map(|s| s.y).sum::<f64>() / n,
+            ..first
+        };
+        out.push_str("<text x=\"");
+        coord(out, (mid.x + 7.0).min(SIZE - 24.0));
+        out.push_str("\" y=\"");
+        coord(out, (mid.y + 12.0).min(SIZE - 3.0));
+        let _ = write!(out, "\">{name}</text></g>");
+    }
     // The case's edge and new vertex.
     for &[a, b] in &marks.focus_edges {
         if let (Some(sa), Some(sb)) = (at(a), at(b)) {
@@ -1206,7 +1351,7 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         }
         Operation::Subdivide { .. } => None,
     };
-    let marks_input = Marks {
+    let mut marks_input = Marks {
         focus_edges: case_edge.into_iter().collect(),
         labels: labels_for(input.len(), Some),
         side: "input",
@@ -1278,6 +1423,22 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             .focus_points
             .extend(new_vertex.and_then(student_of));
     }
+    // Elements the messages name, where the student's code left them (or
+    // in the input, when it left no mesh).
+    if !r.passed {
+        let texts: Vec<&str> = r
+            .entries
+            .iter()
+            .filter(|e| e.level != Level::Info)
+            .map(|e| e.text.as_str())
+            .collect();
+        let names = element_names(&texts);
+        match (&r.result, &r.input) {
+            (Some(mesh), _) => marks_yours.named = resolve_names(mesh, &names),
+            (None, Some(mesh)) => marks_input.named = resolve_names(mesh, &names),
+            (None, None) => {}
+        }
+    }
     // Red only on a failure (a pass may differ within the tolerance).
     if let (Some(c), Some(y), false) = (&cmp, &yours, r.passed) {
         for (s, e) in c.matched.iter().enumerate() {
@@ -1288,10 +1449,10 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
                 Some((_, q)) => {
                     marks_yours.moves.push([p, q]);
                     format!(
-                        "your v{s} is at {}: it should be at {} ({:.6} away)",
+                        "your v{s} is at {}: it should be at {} ({} away)",
                         fmt_p(p),
                         fmt_p(q),
-                        p.distance(q)
+                        fmt_d(p.distance(q))
                     )
                 }
                 None => format!(
@@ -1360,21 +1521,33 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             m.try_normalize()
         })
     });
+    // The first problem, seen along the surface's normal there (from the
+    // centre where the surface says nothing).
+    let looking_at = |s: &Shape, vertices: &[usize]| -> Option<DVec3> {
+        let p = vertices.iter().filter_map(|&v| s.point(v)).sum::<DVec3>()
+            / vertices.len().max(1) as f64;
+        let outward = Prepared::new(s).outward;
+        let n: DVec3 = s
+            .faces
+            .iter()
+            .filter(|face| face.iter().any(|v| vertices.contains(v)))
+            .filter_map(|face| s.face_normal(face))
+            .map(|n| n.normalize_or_zero() * outward)
+            .sum();
+        n.try_normalize().or_else(|| (p - center).try_normalize())
+    };
     let problem = marks_expected
         .wrong_points
         .first()
-        .and_then(|(k, _)| expected.point(*k))
+        .and_then(|(k, _)| looking_at(&expected, &[*k]))
         .or_else(|| {
-            marks_yours
-                .wrong_points
-                .first()
-                .and_then(|(s, _)| yours.as_ref()?.point(*s))
+            let (s, _) = marks_yours.wrong_points.first()?;
+            looking_at(yours.as_ref()?, &[*s])
         })
         .or_else(|| {
             let [a, b] = *marks_expected.wrong_edges.first()?;
-            Some((expected.point(a)? + expected.point(b)?) / 2.0)
-        })
-        .and_then(|p| (p - center).try_normalize());
+            looking_at(&expected, &[a, b])
+        });
     let (dir, why) = match (edge_normal, problem) {
         (Some(n), _) => (n, "facing the case's edge"),
         (None, Some(n)) => (n, "facing the first problem"),
@@ -1468,6 +1641,8 @@ svg.view .dots{fill:none;stroke:#1d2733;stroke-width:3.2;stroke-linecap:round}
 svg.view .dots.small{stroke-width:2}
 svg.view .case-edge{stroke:#ef6c00;stroke-width:3.2;stroke-linecap:round}
 svg.view .case-vertex{fill:none;stroke:#ef6c00;stroke-width:2.2}
+svg.view .named path,svg.view .named circle{fill:none;stroke:#8e24aa;stroke-width:3;stroke-opacity:.75;stroke-linejoin:round;stroke-linecap:round}
+svg.view .named text{font:bold 10px ui-monospace,Menlo,Consolas,monospace;fill:#8e24aa;paint-order:stroke;stroke:#fff;stroke-width:3px}
 svg.view .wrong.edge{fill:none;stroke:#e00000;stroke-width:2.2;stroke-linecap:round}
 svg.view .wrong.edge.ghost{stroke-width:1.6;stroke-dasharray:4 3}
 svg.view .wrong.edge.move{stroke-width:1;stroke-dasharray:2 2}
@@ -1494,6 +1669,7 @@ fn legend() -> String {
         item("<line x1=\"3\" y1=\"8\" x2=\"31\" y2=\"8\" class=\"wrong edge ghost\"/>", "where that missing edge should be"),
         item("<line x1=\"3\" y1=\"8\" x2=\"31\" y2=\"8\" class=\"wrong edge move\"/>", "from a vertex of yours to where it should be"),
         item("<line x1=\"3\" y1=\"8\" x2=\"31\" y2=\"8\" class=\"case-edge\"/>", "the case's edge (flipped, split or refused), or its new vertex"),
+        item("<g class=\"named\"><path d=\"M3 8h28\"/></g>", "an element the messages name (<code>v7</code>, <code>e229</code>, <code>h40</code>, <code>f3</code>), labelled"),
         item("<rect x=\"4\" y=\"2\" width=\"26\" height=\"12\" fill=\"#f0dfbf\" stroke=\"#2a3a4f\" stroke-opacity=\".55\"/>", "the back of a face (seen through a hole)"),
         "<span>faded: behind the surface in that view. <code>v7</code>: your vertex ids (meshes under 60 vertices); hover a red mark for where it is</span>".to_string(),
     ]
@@ -1712,4 +1888,220 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
     let index = dir.join("index.html");
     std::fs::write(&index, html).map_err(|e| io(&index, e))?;
     Ok(index)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grade::Entry;
+    use crate::relabel::Rng;
+    use halfedge::{Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Vertex, VertexId};
+
+    fn fixtures_root() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+    }
+
+    fn fixture(name: &str) -> Fixture {
+        crate::fixture::load_all(&fixtures_root())
+            .expect("the fixtures load")
+            .into_iter()
+            .find(|f| f.name == name)
+            .unwrap_or_else(|| panic!("no fixture {name}"))
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("grader-html-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    fn failed(f: &Fixture, result: Option<Mesh>, text: &str) -> CaseReport {
+        CaseReport {
+            name: f.name.clone(),
+            object: f.object.clone(),
+            group: f.group,
+            stage: f.operation.stage(),
+            passed: false,
+            entries: vec![Entry {
+                level: Level::Warn,
+                text: text.to_string(),
+                file: file!(),
+                line: line!(),
+            }],
+            output: "printed <b>\n".repeat(2000),
+            input: f.input.to_mesh().ok(),
+            result,
+        }
+    }
+
+    /// A mesh whose every link may be anything: ids in range or past it,
+    /// positions finite, NaN, infinite or astronomically far.
+    fn garbage(rng: &mut Rng, n: usize) -> Mesh {
+        let id = |rng: &mut Rng, len: usize| -> u32 {
+            match rng.below(8) {
+                0 => u32::MAX,
+                1 => (len + rng.below(5)) as u32,
+                _ => rng.below(len.max(1)) as u32,
+            }
+        };
+        let coord = |rng: &mut Rng| match rng.below(12) {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => -1e300,
+            3 => 1e9,
+            _ => rng.below(2001) as f64 / 1000.0 - 1.0,
+        };
+        let (nv, ne, nf, nh) = (n, n + 2, n / 2 + 1, 2 * n + 4);
+        let vertices = (0..nv)
+            .map(|_| Vertex {
+                pos: DVec3::new(coord(rng), coord(rng), coord(rng)),
+                new_pos: DVec3::ZERO,
+                is_new: false,
+                halfedge: HalfedgeId(id(rng, nh)),
+            })
+            .collect();
+        let edges = (0..ne)
+            .map(|_| Edge {
+                halfedge: HalfedgeId(id(rng, nh)),
+                new_pos: DVec3::ZERO,
+                is_new: false,
+            })
+            .collect();
+        let faces = (0..nf)
+            .map(|_| Face {
+                halfedge: HalfedgeId(id(rng, nh)),
+                is_boundary: rng.below(4) == 0,
+            })
+            .collect();
+        let halfedges = (0..nh)
+            .map(|_| Halfedge {
+                twin: HalfedgeId(id(rng, nh)),
+                next: HalfedgeId(id(rng, nh)),
+                vertex: VertexId(id(rng, nv)),
+                edge: EdgeId(id(rng, ne)),
+                face: FaceId(id(rng, nf)),
+            })
+            .collect();
+        Mesh::from_records(vertices, edges, faces, halfedges)
+    }
+
+    #[test]
+    fn a_garbage_result_is_drawn_as_far_as_it_goes_and_never_panics() {
+        let mut rng = Rng::new(7);
+        let cases = [
+            "cube-split",
+            "cube-flip-1",
+            "cube-subdivide-1",
+            "grid-split-boundary",
+        ];
+        let fixtures: Vec<Fixture> = cases.iter().map(|c| fixture(c)).collect();
+        let dir = scratch("garbage");
+        for round in 0..60 {
+            let f = &fixtures[round % fixtures.len()];
+            let size = 3 + rng.below(40);
+            let mesh = garbage(&mut rng, size);
+            let report = failed(
+                f,
+                Some(mesh),
+                "broken (e3) at v1, h999999, f2 and v4294967295",
+            );
+            let index = write_report(&dir, &[(f, &report)]).expect("the report is written");
+            let html = std::fs::read_to_string(index).unwrap();
+            assert!(html.contains("<svg class=\"view\""), "pictures are drawn");
+            for bad in ["NaN", " inf", "(inf", "-inf", "00000000000000000000"] {
+                assert!(!html.contains(bad), "{bad} in the page");
+            }
+            let yours = std::fs::read_to_string(dir.join(format!("{}.yours.obj", f.name))).unwrap();
+            assert!(yours.contains("NOT a valid mesh"), "{yours}");
+        }
+        // Empty records, and a mesh with nothing but vertices.
+        let f = &fixtures[0];
+        for mesh in [Mesh::new(), garbage(&mut rng, 0)] {
+            let report = failed(f, Some(mesh), "empty");
+            write_report(&dir, &[(f, &report)]).expect("the report is written");
+        }
+    }
+
+    #[test]
+    fn what_the_student_printed_is_escaped_and_cut() {
+        let f = fixture("cube-split");
+        let report = failed(&f, None, "split_edge panicked: <script>");
+        let dir = scratch("escape");
+        let html = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
+        assert!(!html.contains("<script>") && !html.contains("<b>"));
+        assert!(html.contains("printed &lt;b&gt;") && html.contains("… (cut)"));
+        assert!(html.contains("no mesh to show"));
+    }
+
+    #[test]
+    fn expected_faces_are_rebuilt_for_every_fixture() {
+        for f in crate::fixture::load_all(&fixtures_root()).unwrap() {
+            let input = Shape::from_faces(&f.input.positions, &f.input.faces);
+            let shape = Shape::expected(&f);
+            let mut uses: HashMap<[usize; 2], usize> = HashMap::new();
+            for face in &shape.faces {
+                for s in sides(face) {
+                    *uses.entry(s).or_default() += 1;
+                }
+            }
+            assert!(
+                uses.values().all(|&k| k <= 2),
+                "{}: an edge with three faces",
+                f.name
+            );
+            if input.is_closed() && f.expected.returns != Some(Returns::Refused) {
+                // A closed surface stays closed: every edge has its two
+                // faces, wound consistently, the same way round as the input.
+                assert!(shape.is_closed(), "{}: rebuilt faces do not close", f.name);
+                assert_eq!(uses.len(), f.expected.edges.len(), "{}", f.name);
+                let all = |s: &Shape| (0..s.faces.len()).collect::<Vec<_>>();
+                let (v, _) = shape.orientation(&all(&shape));
+                let (w, _) = input.orientation(&all(&input));
+                assert_eq!(v > 0.0, w > 0.0, "{}: wound the other way", f.name);
+            }
+        }
+    }
+
+    #[test]
+    fn element_names_are_found_in_messages() {
+        let names = element_names(&[
+            "v8 is at (1, 2); A vertex's halfedge (e229), h40 and f3",
+            "between v9 and v10, v8 again; not: ev3, v3x, mesh[e].halfedge",
+        ]);
+        assert_eq!(
+            names,
+            vec![
+                ('v', 8),
+                ('e', 229),
+                ('h', 40),
+                ('f', 3),
+                ('v', 9),
+                ('v', 10)
+            ]
+        );
+    }
+
+    #[test]
+    fn a_misplaced_vertex_is_paired_and_its_edges_are_not_called_wrong() {
+        let f = fixture("cube-split");
+        let expected = Shape::expected(&f);
+        let mut yours = expected.clone();
+        let new = f.input.positions.len();
+        yours.points[new] = Some(DVec3::new(9.0, 9.0, 9.0));
+        let c = compare(&f, &yours, &expected);
+        assert_eq!(c.matched[new], None);
+        assert_eq!(c.unmatched_expected, vec![new]);
+        assert_eq!(c.displaced[new], Some(new));
+        assert!(c.missing.is_empty() && c.extra.is_empty());
+        // An edge moved: one missing, one extra.
+        let gone = yours.edges.pop().unwrap();
+        let new_edge = (0..yours.len())
+            .map(|b| pair(gone[0], b))
+            .find(|e| e[0] != e[1] && *e != gone && !yours.edges.contains(e))
+            .unwrap();
+        yours.edges.push(new_edge);
+        let c = compare(&f, &yours, &expected);
+        assert_eq!(c.missing, vec![gone]);
+        assert_eq!(c.extra.len(), 1);
+    }
 }
