@@ -1632,7 +1632,7 @@ table.pics{border-collapse:collapse}
 table.pics th{font-size:12px;font-weight:600;color:#444;padding:2px 4px;text-align:center}
 table.pics th.row{text-align:right;width:64px;font-weight:400}
 table.pics td{padding:2px}
-td.none{width:230px;text-align:center;color:#777;background:#fafafa;border:1px dashed #ccc;font-size:13px;padding:10px}
+td.none{width:230px;vertical-align:top;text-align:center;color:#777;background:#fafafa;border:1px dashed #ccc;font-size:13px;padding:10px}
 svg.view{background:#fff;border:1px solid #dde1e6;border-radius:3px;display:block}
 svg.view .faces{stroke:#2a3a4f;stroke-opacity:.55;stroke-linejoin:round}
 svg.view .loose{fill:none;stroke:#41536b;stroke-width:.8}
@@ -1738,7 +1738,12 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
     let show_expected = !r.passed;
     html.push_str("<table class=\"pics\"><thead><tr><th></th><th>input (as sent)</th>");
     if show_expected {
-        html.push_str("<th>expected</th>");
+        let what = match f.expected.returns {
+            Some(Returns::Refused) => "expected<br><small>unchanged: it must return None</small>",
+            Some(Returns::Panic) => "expected<br><small>unchanged: it must panic</small>",
+            _ => "expected",
+        };
+        let _ = write!(html, "<th>{what}</th>");
     }
     html.push_str("<th>yours</th></tr></thead><tbody>\n");
     // A passing case needs fewer pictures: the first view and the opposite.
