@@ -679,3 +679,41 @@ pub fn huge_mesh(mesh: &mut Mesh) {
     let halfedges = vec![h[0]; 10_000_000];
     *mesh = Mesh::from_records(v, e, f, halfedges);
 }
+
+/// Uses whatever privileges the child kept: reports its user, lifts its
+/// own memory cap (which only `CAP_SYS_RESOURCE` may do), then touches
+/// 400 MiB and subdivides correctly.
+pub fn root_powers(mesh: &mut Mesh) {
+    // SAFETY: plain system calls on a struct we own.
+    unsafe {
+        println!("attack: running as user {}", libc::geteuid());
+        let unlimited = libc::rlimit {
+            rlim_cur: libc::RLIM_INFINITY,
+            rlim_max: libc::RLIM_INFINITY,
+        };
+        report(
+            "lift the memory cap",
+            if libc::setrlimit(libc::RLIMIT_AS, &unlimited) == 0 {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            },
+        );
+    }
+    let _ = std::io::stdout().flush();
+    let mut block = vec![0u8; 400 << 20];
+    for i in (0..block.len()).step_by(4096) {
+        block[i] = 1;
+    }
+    std::hint::black_box(&block);
+    drop(block);
+    solution::loop_subdivide(mesh);
+}
+
+/// Prints what the sandbox launcher prints when it cannot lock the child
+/// in, and exits with the launcher's status, as if the sandbox had failed.
+pub fn fake_sandbox_failure(mesh: &mut Mesh) {
+    let _ = mesh;
+    eprintln!("grader sandbox: Landlock: this kernel refused the ruleset (tell your TA)");
+    std::process::exit(grader::sandbox::LAUNCH_FAILED);
+}

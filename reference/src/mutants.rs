@@ -142,6 +142,8 @@ pub fn catalogue() -> Vec<Entry> {
         e("thread-overflow", "recurses without end in a thread of its own", with(None, None, Some(hostile::thread_overflow))),
         e("payload-drop-panics", "panics with a payload whose drop panics again", with(None, None, Some(hostile::payload_drop_panics))),
         e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
+        e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
+        e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }

@@ -569,6 +569,8 @@ fn leak() -> ! {
     ) + leak;
     assert!(lib_rs.contains("    leak();"), "the stubs changed shape");
     let (row, log) = grade_class("leaker", &lib_rs);
+    // Refused at compile time, or compiled blind: either way no answer shows.
+    assert!(!log.is_empty(), "no log for {row:?}");
     assert!(
         !log.contains("LEAKED \"expected\""),
         "{row:?}\n{}",
@@ -577,5 +579,59 @@ fn leak() -> ! {
             .take(2)
             .collect::<Vec<_>>()
             .join("\n")
+    );
+}
+
+#[test]
+#[ignore = "open: as root, a child program in a folder others cannot enter runs as root, with every capability the machine gives"]
+fn a_root_grader_never_runs_student_code_as_root() {
+    use std::os::unix::fs::PermissionsExt;
+    if !is_root() {
+        eprintln!("skipped: only a root grader can keep root for its child");
+        return;
+    }
+    // The lab in a folder only root may enter (as /root/lab would be).
+    let dir = scratch_file("private");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let exe = dir.join("reference");
+    std::fs::copy(env!("CARGO_BIN_EXE_reference"), &exe).unwrap();
+    let g = grade_with(
+        &mut Command::new(&exe),
+        "root-powers",
+        &["--case", "cube-subdivide-1", "--memory", "256M"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        g.stdout.contains("| attack: running as user 65534"),
+        "{}",
+        g.context()
+    );
+    assert!(g.denied("lift the memory cap"), "{}", g.context());
+    assert!(
+        g.warned("loop_subdivide used more than 256 MiB of memory"),
+        "{}",
+        g.context()
+    );
+}
+
+#[test]
+#[ignore = "open: student code that prints the launcher's failure line and exits 97 stops the whole run as a sandbox failure"]
+fn student_code_cannot_pass_for_a_sandbox_failure() {
+    let g = grade(
+        "fake-sandbox-failure",
+        &["--case", "cube-subdivide-1", "--timeout", "5"],
+    );
+    assert!(
+        !g.stderr.contains("the grading sandbox could not be set up"),
+        "{}",
+        g.context()
+    );
+    assert_eq!(g.code, 1, "{}", g.context());
+    assert!(
+        g.warned("loop_subdivide ended the program (exit status 97) before returning"),
+        "{}",
+        g.context()
     );
 }
