@@ -550,35 +550,47 @@ fn read(path: &Path) -> String {
 }
 
 #[test]
-#[ignore = "open: the student's crate is compiled next to the hidden fixtures, so include_str! reads their expected answers (class grading and Gradescope)"]
-fn the_hidden_fixtures_are_out_of_the_compiler_s_reach() {
-    // The stubs, but flip_edge panics with a hidden case's expected answer,
-    // read by the compiler from the copy of the lab it builds in.
+#[ignore = "open: the student's crate is compiled with the TA's rights next to the hidden fixtures: include_str! reads their answers and any TA file (class grading, Gradescope)"]
+fn the_compiler_reads_no_hidden_answer_and_no_ta_file() {
+    // A file only the TA may read, named by its absolute path.
+    let secret = scratch_file("ta-secret");
+    std::fs::write(&secret, "TA-SECRET-TOKEN").unwrap();
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&secret, std::fs::Permissions::from_mode(0o600)).unwrap();
+    }
+    // The stubs, but flip_edge panics with a hidden case's expected answer
+    // and the TA's file, both read by the compiler.
     let stubs = read(&reference::lab_root().join("crates/meshedit/src/lib.rs"));
     let leak = r#"
 const HIDDEN: &str = include_str!("../../../fixtures/hidden/cube-2x2-flip-1.json");
+const SECRET: &str = include_str!("SECRET_PATH");
 fn leak() -> ! {
     let at = HIDDEN.find("\"expected\"").unwrap_or(0);
-    panic!("LEAKED {}", &HIDDEN[at..(at + 200).min(HIDDEN.len())].replace('\n', " "));
+    let answer = HIDDEN[at..(at + 200).min(HIDDEN.len())].replace('\n', " ");
+    panic!("LEAKED {SECRET} {answer}");
 }
-"#;
+"#
+    .replace("SECRET_PATH", secret.to_str().unwrap());
     let lib_rs = stubs.replacen(
         "pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {\n",
         "pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {\n    leak();\n    #[allow(unreachable_code)]\n",
         1,
-    ) + leak;
+    ) + &leak;
     assert!(lib_rs.contains("    leak();"), "the stubs changed shape");
     let (row, log) = grade_class("leaker", &lib_rs);
-    // Refused at compile time, or compiled blind: either way no answer shows.
+    std::fs::remove_file(&secret).unwrap();
+    // Refused at compile time, or compiled blind: either way nothing shows.
     assert!(!log.is_empty(), "no log for {row:?}");
+    let leaked: Vec<&str> = log
+        .lines()
+        .filter(|l| l.contains("LEAKED"))
+        .take(2)
+        .collect();
     assert!(
-        !log.contains("LEAKED \"expected\""),
+        !log.contains("TA-SECRET-TOKEN") && !log.contains("\"expected\": {"),
         "{row:?}\n{}",
-        log.lines()
-            .filter(|l| l.contains("LEAKED"))
-            .take(2)
-            .collect::<Vec<_>>()
-            .join("\n")
+        leaked.join("\n")
     );
 }
 
