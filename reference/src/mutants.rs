@@ -129,6 +129,23 @@ pub fn catalogue() -> Vec<Entry> {
         e("detached", "leaves a detached process that rewrites results.json after the grader finished", with(None, None, Some(hostile::detached))),
         e("memory-hog", "touches 6 GiB of memory", with(None, None, Some(hostile::memory_hog))),
         e("replace-and-grow", "replaces the mesh with Mesh::new() and grows it without end", with(None, None, Some(hostile::replace_and_grow))),
+        e("huge-position", "flip_edge flips right but leaves a vertex at (1e300, 0, 0)", with(Some(hostile::huge_position), None, None)),
+        e("sockets", "tries TCP, UDP, a Unix socket by path and an abstract one, then makes the no-flip mistake", with(None, None, Some(hostile::sockets))),
+        e("sysv-shm", "leaves 480 MiB in System V shared memory segments, then subdivides right", with(None, None, Some(hostile::sysv_shm))),
+        e("process-chain", "leaves a chain of 450 processes, each the parent of the next, deeper than the sweeps reach", with(None, None, Some(hostile::process_chain))),
+        e("inherited-fd", "empties a file through a descriptor inherited from whatever started the grader", with(None, None, Some(hostile::inherited_fd))),
+        e("reach-parent", "signals, traces and reads the grader, then makes the no-flip mistake", with(None, None, Some(hostile::reach_parent))),
+        e("renice-parent", "lowers the grader's priority and changes its limits, then makes the no-flip mistake", with(None, None, Some(hostile::renice_parent))),
+        e("fork-memory", "forks three processes of 160 MiB each, then subdivides right", with(None, None, Some(hostile::fork_memory))),
+        e("crafted-frame", "sends a result of its own with links out of range, then exits", with(None, None, Some(hostile::crafted_frame))),
+        e("flood", "prints 64 MiB on each of stdout and stderr, then makes the no-flip mistake", with(None, None, Some(hostile::flood))),
+        e("hook-abort", "installs a panic hook that aborts, then panics", with(None, None, Some(hostile::hook_abort))),
+        e("thread-overflow", "recurses without end in a thread of its own", with(None, None, Some(hostile::thread_overflow))),
+        e("payload-drop-panics", "panics with a payload whose drop panics again", with(None, None, Some(hostile::payload_drop_panics))),
+        e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
+        e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
+        e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
+        e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }
 
