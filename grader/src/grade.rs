@@ -196,6 +196,13 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting.");
         }
+        Run::JudgeFailed(message) => {
+            say!(
+                log,
+                Warn,
+                "the grader could not judge this result ({message}): tell a TA, with your code"
+            );
+        }
         Run::Done(Outcome::Panicked { message, location }) if must_panic => {
             if message.starts_with("not yet implemented") {
                 say!(log, Warn, "{function} panicked: {message}");

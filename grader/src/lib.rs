@@ -39,6 +39,7 @@ pub mod relabel;
 pub mod report;
 pub mod runner;
 pub mod sandbox;
+pub mod seccomp;
 pub mod trial;
 pub mod wire;
 
@@ -348,13 +349,22 @@ fn grade_case(
                 return Err(format!("the grading sandbox could not be set up: {why}"))
             }
         };
-        let mut report = grade::judge(
-            f,
-            &ChildReport {
-                run,
-                output: raw.output,
-            },
-        );
+        // The judge walks data the student's code made: a panic there is
+        // the grader's bug, said as such, never a crash of the whole run.
+        let child_report = ChildReport {
+            run,
+            output: raw.output,
+        };
+        let mut report = match child::guarded(|| grade::judge(f, &child_report)) {
+            Ok(r) => r,
+            Err((message, _)) => grade::judge(
+                f,
+                &ChildReport {
+                    run: runner::Run::JudgeFailed(message),
+                    output: child_report.output.clone(),
+                },
+            ),
+        };
         report.input = Some(l.mesh.clone());
         report.result = result;
         if !report.passed {
@@ -419,7 +429,9 @@ fn grade_all(
                 )
                 .map(|mut r| {
                     let timed = r.entries.iter().any(|e| {
-                        e.level == grade::Level::Warn && e.text.contains("did not finish within")
+                        e.level == grade::Level::Warn
+                            && (e.text.contains("did not finish within")
+                                || e.text.contains("was never reached"))
                     });
                     if timed {
                         match &earlier {

@@ -27,8 +27,9 @@ use crate::wire::{self, Frame, Ran};
 const OUTPUT_CAP: usize = 8 * 1024;
 
 /// How long the child may take to be ready to call the student's function
-/// (decode the request, build the mesh), beyond the time limit itself.
-const SETUP_GRACE: Duration = Duration::from_secs(10);
+/// (start, decode the request, build the mesh: milliseconds for any lab
+/// mesh), beyond the time limit itself.
+const SETUP_GRACE: Duration = Duration::from_secs(2);
 
 /// How long to wait for pipes to close once the child is dead.
 const CLOSE_GRACE: Duration = Duration::from_millis(500);
@@ -93,6 +94,8 @@ pub enum Run {
     Garbled(String),
     /// The result was this many bytes, far more than any answer.
     TooLarge(usize),
+    /// Judging the result panicked: the grader's bug.
+    JudgeFailed(String),
 }
 
 /// What the judge needs of a case's run.
@@ -335,7 +338,7 @@ pub fn run_child(
     active().retain(|&p| p != pid);
     kill_descendants();
     let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
-    let exit = classify(limit_hit, status, result, &output);
+    let exit = classify(limit_hit, status, result, &output, sandbox_status.is_some());
     Ok(RawReport {
         exit,
         output: strip_notices(&output),
@@ -348,6 +351,7 @@ fn classify(
     status: Option<ExitStatus>,
     result: Option<Vec<u8>>,
     output: &str,
+    sandbox_reported: bool,
 ) -> Exit {
     use std::os::unix::process::ExitStatusExt;
     if let Some(exit) = limit_hit {
@@ -356,7 +360,12 @@ fn classify(
     let Some(status) = status else {
         return Exit::Exited(None);
     };
-    if status.code() == Some(sandbox::LAUNCH_FAILED) && output.contains("grader sandbox:") {
+    // Only the launcher, before it reported and exec'd, can fail this way:
+    // student code that prints the same line after that is just exiting.
+    if !sandbox_reported
+        && status.code() == Some(sandbox::LAUNCH_FAILED)
+        && output.contains("grader sandbox:")
+    {
         return Exit::SandboxFailed(output.trim().to_string());
     }
     let frames = result.as_deref().map(wire::decode_frames);

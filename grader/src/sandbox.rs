@@ -15,6 +15,8 @@
 //! - As root, it drops to user `nobody` (and a process cap, which only
 //!   binds users other than root) when the child program is readable by
 //!   everyone.
+//! - A seccomp filter ([`crate::seccomp`]): no new processes, no sockets,
+//!   no IPC, no reaching other processes' priority or limits.
 //! - `PR_SET_PDEATHSIG`: if the grader dies, so does the child.
 //! - An empty environment and `/` as working folder: nothing names a
 //!   fixture, a result file or the grader's options.
@@ -277,11 +279,15 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
             }
         }
         let abi = if limits.landlock { landlock(child)? } else { 0 };
+        // Last: the filter refuses prctl nothing it needs, but keep the
+        // other set-up free of it.
+        let filtered = crate::seccomp::apply()?;
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
         Ok(format!(
-            "landlock={abi} memory={} user={} group=own",
+            "landlock={abi} memory={} user={} group=own seccomp={}",
             limits.memory,
-            if dropped { "nobody" } else { "same" }
+            if dropped { "nobody" } else { "same" },
+            u8::from(filtered)
         ))
     };
     let status = match setup() {
@@ -293,6 +299,13 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         return format!("cannot write to the grader: {e}");
     }
     let _ = std::io::stdout().flush();
+    // Descriptors the grader itself inherited without close-on-exec (from
+    // whatever started it) must not reach the child: only 0, 1 and 2 do.
+    // SAFETY: a plain system call on our own descriptor table.
+    #[cfg(target_os = "linux")]
+    unsafe {
+        libc::syscall(libc::SYS_close_range, 3u32, u32::MAX, 0u32);
+    }
     let log = std::env::var_os("RUST_LOG");
     let mut cmd = std::process::Command::new(child);
     cmd.args(child_args).env_clear().env("RUST_BACKTRACE", "0");
@@ -324,7 +337,11 @@ pub fn describe_status(status: &str) -> String {
         "nobody" => ", user nobody",
         _ => "",
     };
-    format!("protections: {landlock}, {memory}, own process group{user}")
+    let filter = match field("seccomp") {
+        "1" => ", seccomp (no new processes, no sockets, no IPC)",
+        _ => ", no seccomp filter",
+    };
+    format!("protections: {landlock}, {memory}, own process group{user}{filter}")
 }
 
 #[cfg(test)]
@@ -340,11 +357,12 @@ mod tests {
 
     #[test]
     fn the_status_line_names_each_protection() {
-        let line = describe_status("landlock=6 memory=2147483648 user=nobody group=own");
+        let line = describe_status("landlock=6 memory=2147483648 user=nobody group=own seccomp=1");
         assert_eq!(
             line,
             "protections: Landlock ABI 6 (no files, no network, no signals out), \
-             memory cap 2 GiB, own process group, user nobody"
+             memory cap 2 GiB, own process group, user nobody, \
+             seccomp (no new processes, no sockets, no IPC)"
         );
         let off = describe_status("landlock=0 memory=1073741824 user=same group=own");
         assert!(off.contains("Landlock off"), "{off}");
