@@ -1,9 +1,16 @@
 //! Grading a whole class: every entry of the submissions folder gets a row,
 //! whatever it is. Each submission's `lib.rs` is built into its own pristine
-//! copy of the lab (hidden cases included, solution left out), restored from
-//! a template at the same path each time so that cargo rebuilds only the
-//! student's crate and the grader; then graded within a time budget. The
+//! copy of the lab (solution and hidden cases left out), restored from a
+//! template at the same path each time so that cargo rebuilds only the
+//! student's crate and the grader; then graded within a time budget against
+//! the fixtures (hidden cases included) in a folder outside that copy. The
 //! reports land in one folder with a CSV summary.
+//!
+//! The build can read what the TA can: `include_str!` in a student's code
+//! reads any such file while it compiles. So the hidden cases are never in
+//! the copy (no relative path reaches them) and their folder has a name
+//! nobody can predict; the TA's own lab stays readable by absolute path
+//! (the TA guide says how to close that too).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -221,6 +228,42 @@ fn case_counts(fixtures: &Path, bonus: bool) -> [usize; 3] {
     counts
 }
 
+/// A name no one can guess: 128 bits from std's `RandomState`, whose keys
+/// come from the operating system's random source.
+fn unpredictable_name(prefix: &str) -> String {
+    use std::hash::BuildHasher;
+    let mut name = String::from(prefix);
+    for part in 0..2u8 {
+        let bits = std::collections::hash_map::RandomState::new().hash_one((part, Instant::now()));
+        let _ = write!(name, "{bits:016x}");
+    }
+    name
+}
+
+/// A new folder only this user may enter.
+fn private_dir(path: &Path) -> Result<(), String> {
+    let mut builder = std::fs::DirBuilder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::DirBuilderExt;
+        builder.mode(0o700);
+    }
+    builder
+        .create(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Removes its folders when dropped, whichever way grading ends.
+struct RemovedAtEnd(Vec<PathBuf>);
+
+impl Drop for RemovedAtEnd {
+    fn drop(&mut self) {
+        for dir in &self.0 {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
+}
+
 /// Copies `from` into `to` keeping modification times, so that cargo sees
 /// the restored lab as unchanged and rebuilds only what the student touched.
 fn copy_keeping_times(from: &Path, to: &Path) -> Result<(), String> {
@@ -345,13 +388,29 @@ pub fn grade_class(
     let students = find_submissions(submissions)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
-    // Outside the lab (a copy may not land inside what it copies).
-    let scratch = std::env::temp_dir().join(format!("meshlab-class-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&scratch);
+    // Outside the lab (a copy may not land inside what it copies), under
+    // names no student can guess.
+    let scratch = std::env::temp_dir().join(unpredictable_name("meshlab-class-"));
+    let fixtures = std::env::temp_dir().join(unpredictable_name("meshlab-fixtures-"));
+    let _cleanup = RemovedAtEnd(vec![scratch.clone(), fixtures.clone()]);
+    private_dir(&scratch)?;
+    private_dir(&fixtures)?;
     let template = scratch.join("template");
     let work = scratch.join("work");
     handout::copy_lab(root, &template, Purpose::Grading)?;
-    let counts = case_counts(&template.join("fixtures"), options.bonus);
+    // The fixtures graded against leave the copy the students' code is
+    // built in: the hidden ones are moved out, the others copied.
+    for group in ["lab", "bonus", "hidden"] {
+        let from = template.join("fixtures").join(group);
+        if !from.is_dir() {
+            continue;
+        }
+        copy_keeping_times(&from, &fixtures.join(group))?;
+        if group == "hidden" {
+            std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
+        }
+    }
+    let counts = case_counts(&fixtures, options.bonus);
     let exe = options
         .target
         .join("debug")
@@ -361,7 +420,7 @@ pub fn grade_class(
     let mut rows = Vec::new();
     for (i, s) in students.iter().enumerate() {
         let t0 = Instant::now();
-        let row = grade_one(s, &template, &work, &out, &exe, counts, options)?;
+        let row = grade_one(s, &template, &work, &fixtures, &out, &exe, counts, options)?;
         let row = Row {
             seconds: t0.elapsed().as_secs_f64(),
             ..row
@@ -402,16 +461,17 @@ pub fn grade_class(
         );
     }
     std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
-    let _ = std::fs::remove_dir_all(&scratch);
     Ok(rows)
 }
 
 /// Grades one entry; an error here is the TA's (disk, cargo missing), never
 /// the student's: a student's problem becomes the row's status.
+#[allow(clippy::too_many_arguments)]
 fn grade_one(
     s: &Submission,
     template: &Path,
     work: &Path,
+    fixtures: &Path,
     out: &Path,
     exe: &Path,
     counts: [usize; 3],
@@ -502,6 +562,8 @@ fn grade_one(
     let mut grade = Command::new(exe);
     grade
         .args(["--no-color", "--timeout", &options.timeout.to_string()])
+        .arg("--fixtures")
+        .arg(fixtures)
         .args(["--format", "json", "--gradescope"])
         .arg(&results)
         .current_dir(work);
