@@ -39,7 +39,15 @@ pub struct Submission {
     pub lib_rs: Result<PathBuf, String>,
 }
 
-/// Every `.rs` file under `dir`, relative, shallowest first.
+/// Whether `path` is a symbolic link. A submission's links are never
+/// followed: one could name any file the TA can read (a hidden case), which
+/// the compiler would then quote in the student's report.
+fn is_link(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
+}
+
+/// Every `.rs` file under `dir`, relative, shallowest first; symbolic
+/// links left out.
 fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
     let Ok(entries) = std::fs::read_dir(dir.join(rel)) else {
         return;
@@ -49,6 +57,9 @@ fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
     for path in paths {
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         let rel_path = rel.join(&*name);
+        if is_link(&path) {
+            continue;
+        }
         if path.is_dir() {
             if !name.starts_with('.') && !SKIP_DIRS.contains(&&*name) {
                 rust_files(dir, &rel_path, out);
@@ -145,7 +156,11 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
         if file_name.starts_with('.') {
             continue;
         }
-        let (name, lib_rs) = if path.is_dir() {
+        let (name, lib_rs) = if is_link(&path) {
+            let name = file_name.strip_suffix(".rs").unwrap_or(&file_name);
+            let why = "a symbolic link: copy the submission itself".to_string();
+            (name.to_string(), Err(why))
+        } else if path.is_dir() {
             (file_name.clone(), find_lib_rs(&path))
         } else if let Some(stem) = file_name.strip_suffix(".rs") {
             (stem.to_string(), Ok(path.clone()))

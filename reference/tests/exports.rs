@@ -516,11 +516,15 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     }
 
     let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
-    let grade = |files: &[(&str, String)], budget: Option<u32>| {
+    // An upload of these files and symbolic links (path, target).
+    let upload = |files: &[(&str, String)], links: &[(&str, &Path)], budget: Option<u32>| {
         let _ = std::fs::remove_dir_all(ag.join("submission"));
         std::fs::create_dir_all(ag.join("submission")).unwrap();
         for (rel, text) in files {
             write(&ag.join("submission").join(rel), text);
+        }
+        for (rel, to) in links {
+            std::os::unix::fs::symlink(to, ag.join("submission").join(rel)).unwrap();
         }
         let mut cmd = Command::new(ag.join("run_autograder"));
         cmd.env("AUTOGRADER", &ag);
@@ -542,6 +546,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
             String::from_utf8_lossy(&out.stdout).into_owned(),
         )
     };
+    let grade = |files: &[(&str, String)], budget: Option<u32>| upload(files, &[], budget);
 
     // The model solution alone: full marks, hidden cases after publication.
     let (good, _, log) = grade(&[("lib.rs", solution())], None);
@@ -680,6 +685,14 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         );
     }
 
+    // A symbolic link in the upload is never followed: root copies the
+    // student's file, and the compiler would quote a hidden case's lines.
+    let (link, _, log) = upload(&[], &[("lib.rs", &absolute)], None);
+    assert_eq!(link["score"].as_f64(), Some(0.0), "{log}\n{link}");
+    let output = link["output"].as_str().unwrap();
+    assert!(output.contains("lib.rs is a symbolic link"), "{output}");
+    assert!(!output.contains("\"schema\""), "{output}");
+
     // Hostile: loop_subdivide spawns `sleep 1000` and never returns. The
     // run ends within its budget; flips and splits still earn their points.
     let budget = 45;
@@ -731,6 +744,13 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         &subs.join("frank.rs"),
         &embedding("../../../fixtures/lab/cube-flip-1.json"),
     );
+    // Links to the hidden case: as a whole entry, and as the file inside a
+    // workspace. Never followed.
+    let hidden_file = root().join("fixtures/hidden").join(&hidden_case);
+    std::os::unix::fs::symlink(&hidden_file, subs.join("grace.rs")).unwrap();
+    std::fs::create_dir_all(subs.join("heidi/crates/meshedit/src")).unwrap();
+    std::os::unix::fs::symlink(&hidden_file, subs.join("heidi/crates/meshedit/src/lib.rs"))
+        .unwrap();
     let out = dir.join("out");
     let options = reference::class::Options {
         timeout: 1.0,
@@ -752,6 +772,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             "dave",
             "eve",
             "frank",
+            "grace",
+            "heidi",
             "mallory",
             "notes.txt"
         ]
@@ -795,6 +817,17 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{eve:?}"
     );
     assert_eq!(row("frank").score, max, "{:?}", row("frank"));
+    for linked in ["grace", "heidi"] {
+        let r = row(linked);
+        assert_eq!(
+            (r.score, r.status.as_str()),
+            (0.0, "no submission"),
+            "{r:?}"
+        );
+        let report = std::fs::read_to_string(out.join(format!("{linked}.txt"))).unwrap();
+        assert!(!report.contains("\"schema\""), "{report}");
+    }
+    assert!(row("grace").first_failure.contains("symbolic link"));
     assert_eq!(row("dave").status, "no submission");
     assert!(row("dave")
         .first_failure
@@ -830,6 +863,6 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         )),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 9, "{csv}");
+    assert_eq!(csv.lines().count(), 11, "{csv}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
