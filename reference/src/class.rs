@@ -1,9 +1,16 @@
 //! Grading a whole class: every entry of the submissions folder gets a row,
 //! whatever it is. Each submission's `lib.rs` is built into its own pristine
-//! copy of the lab (hidden cases included, solution left out), restored from
-//! a template at the same path each time so that cargo rebuilds only the
-//! student's crate and the grader; then graded within a time budget. The
+//! copy of the lab (solution and hidden cases left out), restored from a
+//! template at the same path each time so that cargo rebuilds only the
+//! student's crate and the grader; then graded within a time budget against
+//! the fixtures (hidden cases included) in a folder outside that copy. The
 //! reports land in one folder with a CSV summary.
+//!
+//! The build can read what the TA can: `include_str!` in a student's code
+//! reads any such file while it compiles. So the hidden cases are never in
+//! the copy (no relative path reaches them) and their folder has a name
+//! nobody can predict; the TA's own lab stays readable by absolute path
+//! (the TA guide says how to close that too).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -32,7 +39,15 @@ pub struct Submission {
     pub lib_rs: Result<PathBuf, String>,
 }
 
-/// Every `.rs` file under `dir`, relative, shallowest first.
+/// Whether `path` is a symbolic link. A submission's links are never
+/// followed: one could name any file the TA can read (a hidden case), which
+/// the compiler would then quote in the student's report.
+fn is_link(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
+}
+
+/// Every `.rs` file under `dir`, relative, shallowest first; symbolic
+/// links left out.
 fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
     let Ok(entries) = std::fs::read_dir(dir.join(rel)) else {
         return;
@@ -42,6 +57,9 @@ fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
     for path in paths {
         let name = path.file_name().unwrap_or_default().to_string_lossy();
         let rel_path = rel.join(&*name);
+        if is_link(&path) {
+            continue;
+        }
         if path.is_dir() {
             if !name.starts_with('.') && !SKIP_DIRS.contains(&&*name) {
                 rust_files(dir, &rel_path, out);
@@ -138,7 +156,11 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
         if file_name.starts_with('.') {
             continue;
         }
-        let (name, lib_rs) = if path.is_dir() {
+        let (name, lib_rs) = if is_link(&path) {
+            let name = file_name.strip_suffix(".rs").unwrap_or(&file_name);
+            let why = "a symbolic link: copy the submission itself".to_string();
+            (name.to_string(), Err(why))
+        } else if path.is_dir() {
             (file_name.clone(), find_lib_rs(&path))
         } else if let Some(stem) = file_name.strip_suffix(".rs") {
             (stem.to_string(), Ok(path.clone()))
@@ -219,6 +241,42 @@ fn case_counts(fixtures: &Path, bonus: bool) -> [usize; 3] {
         }
     }
     counts
+}
+
+/// A name no one can guess: 128 bits from std's `RandomState`, whose keys
+/// come from the operating system's random source.
+fn unpredictable_name(prefix: &str) -> String {
+    use std::hash::BuildHasher;
+    let mut name = String::from(prefix);
+    for part in 0..2u8 {
+        let bits = std::collections::hash_map::RandomState::new().hash_one((part, Instant::now()));
+        let _ = write!(name, "{bits:016x}");
+    }
+    name
+}
+
+/// A new folder only this user may enter.
+fn private_dir(path: &Path) -> Result<(), String> {
+    let mut builder = std::fs::DirBuilder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::DirBuilderExt;
+        builder.mode(0o700);
+    }
+    builder
+        .create(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Removes its folders when dropped, whichever way grading ends.
+struct RemovedAtEnd(Vec<PathBuf>);
+
+impl Drop for RemovedAtEnd {
+    fn drop(&mut self) {
+        for dir in &self.0 {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
 }
 
 /// Copies `from` into `to` keeping modification times, so that cargo sees
@@ -345,13 +403,29 @@ pub fn grade_class(
     let students = find_submissions(submissions)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
-    // Outside the lab (a copy may not land inside what it copies).
-    let scratch = std::env::temp_dir().join(format!("meshlab-class-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&scratch);
+    // Outside the lab (a copy may not land inside what it copies), under
+    // names no student can guess.
+    let scratch = std::env::temp_dir().join(unpredictable_name("meshlab-class-"));
+    let fixtures = std::env::temp_dir().join(unpredictable_name("meshlab-fixtures-"));
+    let _cleanup = RemovedAtEnd(vec![scratch.clone(), fixtures.clone()]);
+    private_dir(&scratch)?;
+    private_dir(&fixtures)?;
     let template = scratch.join("template");
     let work = scratch.join("work");
     handout::copy_lab(root, &template, Purpose::Grading)?;
-    let counts = case_counts(&template.join("fixtures"), options.bonus);
+    // The fixtures graded against leave the copy the students' code is
+    // built in: the hidden ones are moved out, the others copied.
+    for group in ["lab", "bonus", "hidden"] {
+        let from = template.join("fixtures").join(group);
+        if !from.is_dir() {
+            continue;
+        }
+        copy_keeping_times(&from, &fixtures.join(group))?;
+        if group == "hidden" {
+            std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
+        }
+    }
+    let counts = case_counts(&fixtures, options.bonus);
     let exe = options
         .target
         .join("debug")
@@ -361,7 +435,7 @@ pub fn grade_class(
     let mut rows = Vec::new();
     for (i, s) in students.iter().enumerate() {
         let t0 = Instant::now();
-        let row = grade_one(s, &template, &work, &out, &exe, counts, options)?;
+        let row = grade_one(s, &template, &work, &fixtures, &out, &exe, counts, options)?;
         let row = Row {
             seconds: t0.elapsed().as_secs_f64(),
             ..row
@@ -402,16 +476,17 @@ pub fn grade_class(
         );
     }
     std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
-    let _ = std::fs::remove_dir_all(&scratch);
     Ok(rows)
 }
 
 /// Grades one entry; an error here is the TA's (disk, cargo missing), never
 /// the student's: a student's problem becomes the row's status.
+#[allow(clippy::too_many_arguments)]
 fn grade_one(
     s: &Submission,
     template: &Path,
     work: &Path,
+    fixtures: &Path,
     out: &Path,
     exe: &Path,
     counts: [usize; 3],
@@ -502,6 +577,8 @@ fn grade_one(
     let mut grade = Command::new(exe);
     grade
         .args(["--no-color", "--timeout", &options.timeout.to_string()])
+        .arg("--fixtures")
+        .arg(fixtures)
         .args(["--format", "json", "--gradescope"])
         .arg(&results)
         .current_dir(work);

@@ -430,10 +430,11 @@ pub struct GradescopeOptions {
 
 /// Writes a Gradescope autograder into `dest` (new or empty): its two
 /// scripts, and the lab for grading (hidden cases in, solution out) as
-/// `source/`, where Gradescope puts it.
+/// `lab/`. Gradescope unzips it into `/autograder/source/`; `setup.sh` then
+/// moves the hidden cases out of `lab/`, where the student's code is built.
 pub fn gradescope(root: &Path, dest: &Path, options: GradescopeOptions) -> Result<(), String> {
     let version = rust_version(root)?;
-    copy_lab(root, &dest.join("source"), Purpose::Grading)?;
+    copy_lab(root, &dest.join("lab"), Purpose::Grading)?;
     let setup = include_str!("../gradescope/setup.sh").replace("@RUST_VERSION@", &version);
     let run = include_str!("../gradescope/run_autograder")
         .replace("@BUDGET@", &options.budget.to_string())

@@ -168,7 +168,7 @@ enum Command {
         quiet: bool,
     },
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
-    /// source/ (the lab with hidden cases, without the solution). Zip DIR's
+    /// lab/ (the lab with hidden cases, without the solution). Zip DIR's
     /// contents and upload.
     Gradescope {
         dir: PathBuf,

@@ -76,6 +76,31 @@ pub fn loop_subdivide(_mesh: &mut Mesh) {
 "#
 }
 
+/// The model solution that also embeds a fixture file at compile time, by
+/// `path` as written in `crates/meshedit/src/lib.rs`: what a student who
+/// knows the layout would do to replay the hidden cases' expected answers.
+fn embedding(path: &str) -> String {
+    solution()
+        + &format!(
+            "\nconst EMBEDDED: &str = include_str!({path:?});\n\
+             pub fn embedded_len() -> usize {{ EMBEDDED.len() }}\n"
+        )
+}
+
+/// The first hidden case's file name.
+fn a_hidden_case() -> String {
+    let first = case_files("hidden")
+        .into_iter()
+        .next()
+        .expect("a hidden case");
+    first.file_name().unwrap().to_string_lossy().into_owned()
+}
+
+fn is_root() -> bool {
+    // SAFETY: a plain system call without arguments.
+    unsafe { libc::geteuid() == 0 }
+}
+
 fn write(path: &Path, text: &str) {
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     std::fs::write(path, text).unwrap();
@@ -94,13 +119,22 @@ fn sum(tests: &[serde_json::Value], key: &str) -> f64 {
     tests.iter().map(|t| t[key].as_f64().unwrap_or(0.0)).sum()
 }
 
+/// The cases (`*.json`, not `SHA256SUMS`) of one group of the lab's fixtures.
+fn case_files(group: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("fixtures").join(group))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
 /// Counted (lab + hidden) cases per fixture kind in the lab.
 fn counted(kind: &str) -> usize {
     ["lab", "hidden"]
         .iter()
-        .flat_map(|g| std::fs::read_dir(root().join("fixtures").join(g)).unwrap())
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .flat_map(|g| case_files(g))
         .map(|p| json(&p))
         .filter(|f| f["operation"]["kind"] == kind)
         .count()
@@ -317,18 +351,7 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
         .iter()
         .map(|t| t["points"].as_u64().unwrap())
         .sum();
-    assert_eq!(
-        points as usize,
-        std::fs::read_dir(root().join("fixtures/lab"))
-            .unwrap()
-            .filter(|e| e
-                .as_ref()
-                .unwrap()
-                .path()
-                .extension()
-                .is_some_and(|x| x == "json"))
-            .count()
-    );
+    assert_eq!(points as usize, case_files("lab").len());
 
     // --update refreshes fixtures and docs, removes a dropped case and
     // leaves the student's work alone.
@@ -407,40 +430,104 @@ fn base64_decode(text: &str) -> Vec<u8> {
     out.stdout
 }
 
+/// Whether every folder above `path` lets other users through (user
+/// `nobody` must reach the lab and the target folder).
+fn searchable_by_others(path: &Path) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    path.ancestors()
+        .filter(|p| p.exists())
+        .all(|p| std::fs::metadata(p).is_ok_and(|m| m.permissions().mode() & 0o001 != 0))
+}
+
+/// Gradescope's /autograder for the tests (outside the lab, as a bundle
+/// must be), and the build's target folder (under `target/`, unless user
+/// `nobody` cannot reach it there). Both at fixed paths for this checkout,
+/// so that the build's dependencies, whose fingerprints hold the vendored
+/// sources' path, compile only once.
+fn gradescope_places() -> (PathBuf, PathBuf) {
+    use std::hash::{DefaultHasher, Hash, Hasher};
+    let mut hasher = DefaultHasher::new();
+    root().hash(&mut hasher);
+    let tmp = std::env::temp_dir().join(format!("meshlab-ta-tests-{:016x}", hasher.finish()));
+    let mut target = root().join("target/ta-tests-gradescope");
+    if is_root() && !searchable_by_others(&target) {
+        target = tmp.join("target");
+    }
+    (tmp.join("autograder"), target)
+}
+
 #[test]
 fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let _turn = take_turn();
-    let dir = scratch("gradescope");
-    let ag = dir.join("autograder");
-    let r = reference(&["gradescope", ag.to_str().unwrap()]);
+    // Laid out as on Gradescope: the bundle unzipped into source/, the
+    // script copied next to it.
+    let (ag, build_target) = gradescope_places();
+    let _ = std::fs::remove_dir_all(&ag);
+    let bundle = ag.join("source");
+    let r = reference(&["gradescope", bundle.to_str().unwrap()]);
     assert_eq!(r.code, 0, "{}", r.stderr);
-    assert!(
-        ag.join("source/fixtures/hidden").is_dir(),
-        "hidden cases graded"
-    );
-    assert!(
-        !ag.join("source/reference").exists(),
-        "no solution on the server"
-    );
-    let setup = std::fs::read_to_string(ag.join("setup.sh")).unwrap();
+    let lab = bundle.join("lab");
+    assert!(lab.join("fixtures/hidden").is_dir(), "hidden cases graded");
+    assert!(!lab.join("reference").exists(), "no solution on the server");
+    let setup = std::fs::read_to_string(bundle.join("setup.sh")).unwrap();
     let version = reference::handout::rust_version(&root()).unwrap();
     assert!(
         setup.contains(&format!("RUST_VERSION=\"{version}\"")),
         "{setup}"
     );
-    assert!(setup.contains("chmod -R go-rwx fixtures/hidden"));
-    let script = std::fs::read_to_string(ag.join("run_autograder")).unwrap();
+    assert!(setup.contains("run_autograder\" --setup"), "{setup}");
+    let script = std::fs::read_to_string(bundle.join("run_autograder")).unwrap();
     assert!(!script.contains('@'), "every setting filled in");
+    std::fs::copy(bundle.join("run_autograder"), ag.join("run_autograder")).unwrap();
+
+    // The part of setup.sh that needs no network: as root, it moves the
+    // hidden cases into a folder only root may enter and builds as nobody.
+    let out = Command::new(bundle.join("run_autograder"))
+        .arg("--setup")
+        .env("AUTOGRADER", &ag)
+        .env("CARGO_TARGET_DIR", &build_target)
+        .output()
+        .unwrap();
+    let setup_log = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{setup_log}");
+    assert!(
+        !lab.join("fixtures/hidden").exists(),
+        "the hidden cases left the lab"
+    );
+    let grading = ag.join("meshlab/fixtures");
+    assert!(grading.join("hidden").join(a_hidden_case()).is_file());
+    assert!(grading.join("lab/cube-flip-1.json").is_file());
+    {
+        use std::os::unix::fs::{MetadataExt, PermissionsExt};
+        let meta = std::fs::metadata(&grading).unwrap();
+        assert_eq!(meta.permissions().mode() & 0o777, 0o700);
+        if is_root() {
+            assert_eq!(meta.uid(), 0);
+            assert!(
+                setup_log.contains("built the grader as nobody"),
+                "{setup_log}"
+            );
+            assert_eq!(
+                std::fs::metadata(&build_target).unwrap().uid(),
+                65534,
+                "the build's target folder is nobody's"
+            );
+        }
+    }
 
     let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
-    let grade = |files: &[(&str, String)], budget: Option<u32>| {
+    // An upload of these files and symbolic links (path, target).
+    let upload = |files: &[(&str, String)], links: &[(&str, &Path)], budget: Option<u32>| {
         let _ = std::fs::remove_dir_all(ag.join("submission"));
         std::fs::create_dir_all(ag.join("submission")).unwrap();
         for (rel, text) in files {
             write(&ag.join("submission").join(rel), text);
         }
+        for (rel, to) in links {
+            std::os::unix::fs::symlink(to, ag.join("submission").join(rel)).unwrap();
+        }
         let mut cmd = Command::new(ag.join("run_autograder"));
-        cmd.env("AUTOGRADER", &ag).env("CARGO_TARGET_DIR", target());
+        cmd.env("AUTOGRADER", &ag);
         if let Some(b) = budget {
             cmd.env("MESHLAB_BUDGET", b.to_string())
                 .env("MESHLAB_CASE_TIMEOUT", "1");
@@ -459,28 +546,25 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
             String::from_utf8_lossy(&out.stdout).into_owned(),
         )
     };
+    let grade = |files: &[(&str, String)], budget: Option<u32>| upload(files, &[], budget);
 
     // The model solution alone: full marks, hidden cases after publication.
     let (good, _, log) = grade(&[("lib.rs", solution())], None);
     let tests = tests_of(&good);
     assert_eq!(sum(&tests, "max_score"), max, "{log}");
     assert_eq!(good["score"].as_f64(), Some(max), "{good}");
+    if is_root() {
+        assert!(log.contains("cargo build as nobody: exit 0"), "{log}");
+        assert!(
+            log.contains("user nobody"),
+            "the case child drops too: {log}"
+        );
+    }
     let hidden = tests
         .iter()
         .filter(|t| t["visibility"] == "after_published")
         .count();
-    assert_eq!(
-        hidden,
-        std::fs::read_dir(root().join("fixtures/hidden"))
-            .unwrap()
-            .filter(|e| e
-                .as_ref()
-                .unwrap()
-                .path()
-                .extension()
-                .is_some_and(|x| x == "json"))
-            .count()
-    );
+    assert_eq!(hidden, case_files("hidden").len());
     assert!(tests
         .iter()
         .filter(|t| t["visibility"] != "after_published")
@@ -557,6 +641,58 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         "{none}"
     );
 
+    // Hostile at compile time: embedding a hidden case's expected answer
+    // does not compile, by the path from the student's file into the lab's
+    // fixtures (the hidden cases left the lab at setup)...
+    let hidden_case = a_hidden_case();
+    let does_not_compile = |results: &serde_json::Value, log: &str, why: &str| {
+        assert_eq!(results["score"].as_f64(), Some(0.0), "{log}\n{results}");
+        assert_eq!(sum(&tests_of(results), "max_score"), max, "{results}");
+        let output = results["output"].as_str().unwrap();
+        assert!(
+            output.starts_with("Your code does not compile:"),
+            "{output}"
+        );
+        assert!(output.contains("couldn't read"), "{output}");
+        assert!(output.contains(why), "{output}");
+    };
+    let relative = format!("../../../fixtures/hidden/{hidden_case}");
+    let (leak, _, log) = grade(&[("lib.rs", embedding(&relative))], None);
+    does_not_compile(&leak, &log, "No such file or directory");
+    // ... while the same path to a lab case compiles and grades: the path
+    // is right, only the hidden cases are out of reach.
+    let (control, _, log) = grade(
+        &[(
+            "lib.rs",
+            embedding("../../../fixtures/lab/cube-flip-1.json"),
+        )],
+        None,
+    );
+    assert_eq!(control["score"].as_f64(), Some(max), "{log}\n{control}");
+    // ... and by the absolute path of the folder they moved to (published
+    // with this bundle): the build runs as nobody, who may not enter it.
+    // Run by another user, the build runs as that user, who may: only the
+    // relative paths are checked then.
+    let absolute = grading.join("hidden").join(&hidden_case);
+    if is_root() {
+        let (leak, _, log) = grade(&[("lib.rs", embedding(absolute.to_str().unwrap()))], None);
+        does_not_compile(&leak, &log, "Permission denied");
+    } else {
+        eprintln!(
+            "not root: the build runs as this user, so embedding {} by its absolute \
+             path is not checked",
+            absolute.display()
+        );
+    }
+
+    // A symbolic link in the upload is never followed: root copies the
+    // student's file, and the compiler would quote a hidden case's lines.
+    let (link, _, log) = upload(&[], &[("lib.rs", &absolute)], None);
+    assert_eq!(link["score"].as_f64(), Some(0.0), "{log}\n{link}");
+    let output = link["output"].as_str().unwrap();
+    assert!(output.contains("lib.rs is a symbolic link"), "{output}");
+    assert!(!output.contains("\"schema\""), "{output}");
+
     // Hostile: loop_subdivide spawns `sleep 1000` and never returns. The
     // run ends within its budget; flips and splits still earn their points.
     let budget = 45;
@@ -577,7 +713,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert_eq!(earned("split_edge"), counted("split") as f64, "{log}");
     assert_eq!(earned("loop_subdivide"), 0.0, "{log}");
     assert_eq!(sum(&tests, "max_score"), max, "{log}\n{bad}");
-    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::remove_dir_all(&ag).unwrap();
 }
 
 #[test]
@@ -596,6 +732,25 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     std::fs::create_dir_all(subs.join("dave")).unwrap();
     write(&subs.join("notes.txt"), "grading notes");
     write(&subs.join("mallory.rs"), &hostile());
+    // Embeds a hidden case by the path from the student's file to the
+    // copy's fixtures: the copy has no hidden cases. Frank embeds a lab case
+    // by the same path, to show the path is right.
+    let hidden_case = a_hidden_case();
+    write(
+        &subs.join("eve.rs"),
+        &embedding(&format!("../../../fixtures/hidden/{hidden_case}")),
+    );
+    write(
+        &subs.join("frank.rs"),
+        &embedding("../../../fixtures/lab/cube-flip-1.json"),
+    );
+    // Links to the hidden case: as a whole entry, and as the file inside a
+    // workspace. Never followed.
+    let hidden_file = root().join("fixtures/hidden").join(&hidden_case);
+    std::os::unix::fs::symlink(&hidden_file, subs.join("grace.rs")).unwrap();
+    std::fs::create_dir_all(subs.join("heidi/crates/meshedit/src")).unwrap();
+    std::os::unix::fs::symlink(&hidden_file, subs.join("heidi/crates/meshedit/src/lib.rs"))
+        .unwrap();
     let out = dir.join("out");
     let options = reference::class::Options {
         timeout: 1.0,
@@ -610,7 +765,18 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     let names: Vec<&str> = rows.iter().map(|r| r.name.as_str()).collect();
     assert_eq!(
         names,
-        ["alice", "bob", "carol", "dave", "mallory", "notes.txt"]
+        [
+            "alice",
+            "bob",
+            "carol",
+            "dave",
+            "eve",
+            "frank",
+            "grace",
+            "heidi",
+            "mallory",
+            "notes.txt"
+        ]
     );
     let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
     let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
@@ -640,6 +806,28 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert!(std::fs::read_to_string(out.join("carol.txt"))
         .unwrap()
         .contains("unclosed delimiter"));
+    let eve = row("eve");
+    assert_eq!(
+        (eve.score, eve.max, eve.status.as_str()),
+        (0.0, max, "does not compile"),
+        "{eve:?}"
+    );
+    assert!(
+        eve.first_failure.contains("couldn't read") && eve.first_failure.contains(&hidden_case),
+        "{eve:?}"
+    );
+    assert_eq!(row("frank").score, max, "{:?}", row("frank"));
+    for linked in ["grace", "heidi"] {
+        let r = row(linked);
+        assert_eq!(
+            (r.score, r.status.as_str()),
+            (0.0, "no submission"),
+            "{r:?}"
+        );
+        let report = std::fs::read_to_string(out.join(format!("{linked}.txt"))).unwrap();
+        assert!(!report.contains("\"schema\""), "{report}");
+    }
+    assert!(row("grace").first_failure.contains("symbolic link"));
     assert_eq!(row("dave").status, "no submission");
     assert!(row("dave")
         .first_failure
@@ -675,6 +863,6 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         )),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 7, "{csv}");
+    assert_eq!(csv.lines().count(), 11, "{csv}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
