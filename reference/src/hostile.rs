@@ -539,6 +539,10 @@ pub fn fork_memory(mesh: &mut Mesh) {
         // SAFETY: fork in a single-threaded child; the forked process only
         // touches memory and exits.
         let pid = unsafe { libc::fork() };
+        if pid < 0 {
+            report("fork", Err(std::io::Error::last_os_error()));
+            continue;
+        }
         if pid == 0 {
             let mut block = vec![0u8; 160 << 20];
             for i in (0..block.len()).step_by(4096) {
