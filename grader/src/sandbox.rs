@@ -126,18 +126,12 @@ fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), S
     ))
 }
 
-/// Whether `nobody` could run `exe`: the file readable and executable by
-/// others, and every folder above it searchable.
+/// Whether `nobody` could run `exe`, given open by descriptor: the file is
+/// executable by others. (The folders above it do not matter: the launcher
+/// opens it before dropping privileges.)
 pub fn runnable_by_others(exe: &Path) -> bool {
     use std::os::unix::fs::PermissionsExt;
-    let mode = |p: &Path| std::fs::metadata(p).map(|m| m.permissions().mode());
-    if !mode(exe).is_ok_and(|m| m & 0o005 == 0o005) {
-        return false;
-    }
-    exe.ancestors()
-        .skip(1)
-        .filter(|p| !p.as_os_str().is_empty())
-        .all(|p| mode(p).is_ok_and(|m| m & 0o001 != 0))
+    std::fs::metadata(exe).is_ok_and(|m| m.permissions().mode() & 0o001 != 0)
 }
 
 #[cfg(target_os = "linux")]
@@ -186,13 +180,13 @@ fn drop_privileges() -> Result<bool, String> {
 
 /// Landlock is Linux's: elsewhere the other protections stand alone.
 #[cfg(not(target_os = "linux"))]
-fn landlock(_: &Path) -> Result<i32, String> {
+fn landlock(_: &std::fs::File) -> Result<i32, String> {
     Ok(0)
 }
 
 /// Applies Landlock; returns the ABI in force (0 when the kernel has none).
 #[cfg(target_os = "linux")]
-fn landlock(child: &Path) -> Result<i32, String> {
+fn landlock(program: &std::fs::File) -> Result<i32, String> {
     use landlock::{
         Access, AccessFs, AccessNet, CompatLevel, Compatible, LandlockStatus, PathBeneath, PathFd,
         Ruleset, RulesetAttr, RulesetCreatedAttr, RulesetStatus, Scope, ABI,
@@ -209,7 +203,8 @@ fn landlock(child: &Path) -> Result<i32, String> {
         .map_err(|e| fail(&e))?
         .create()
         .map_err(|e| fail(&e))?;
-    let program = PathFd::new(child).map_err(|e| fail(&e))?;
+    // The program by its open descriptor: its folder may be closed to
+    // `nobody`, which this process may be by now.
     ruleset = ruleset
         .add_rule(PathBeneath::new(
             program,
@@ -254,7 +249,14 @@ fn landlock(child: &Path) -> Result<i32, String> {
 /// Locks this process in and `exec`s the child. Returns only on failure.
 fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     use std::io::Write;
-    use std::os::unix::process::CommandExt;
+    use std::os::fd::AsRawFd;
+    // Opened while still privileged, and executed by descriptor: a child
+    // program in a folder `nobody` cannot enter (a root's home) still runs
+    // as `nobody`. Close-on-exec, so the child does not hold it.
+    let program = match std::fs::File::open(child) {
+        Ok(f) => f,
+        Err(e) => return format!("cannot open {}: {e}", child.display()),
+    };
     let setup = || -> Result<String, String> {
         set_limit(libc::RLIMIT_AS, limits.memory)?;
         set_limit(libc::RLIMIT_FSIZE, 0)?;
@@ -266,6 +268,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         }
         // SAFETY: plain prctl calls. Set after dropping privileges, which
         // clears the parent-death signal.
+        #[cfg(target_os = "linux")]
         unsafe {
             libc::prctl(
                 libc::PR_SET_PDEATHSIG,
@@ -278,9 +281,11 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
                 return Err("the grader is gone".into());
             }
         }
-        let abi = if limits.landlock { landlock(child)? } else { 0 };
-        // Last: the filter refuses prctl nothing it needs, but keep the
-        // other set-up free of it.
+        let abi = if limits.landlock {
+            landlock(&program)?
+        } else {
+            0
+        };
         let filtered = crate::seccomp::apply()?;
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
         Ok(format!(
@@ -301,19 +306,43 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     let _ = std::io::stdout().flush();
     // Descriptors the grader itself inherited without close-on-exec (from
     // whatever started it) must not reach the child: only 0, 1 and 2 do.
+    // (Marked close-on-exec rather than closed: `program` is needed to exec.)
     // SAFETY: a plain system call on our own descriptor table.
     #[cfg(target_os = "linux")]
     unsafe {
-        libc::syscall(libc::SYS_close_range, 3u32, u32::MAX, 0u32);
+        const CLOSE_RANGE_CLOEXEC: u32 = 1 << 2;
+        libc::syscall(libc::SYS_close_range, 3u32, u32::MAX, CLOSE_RANGE_CLOEXEC);
     }
-    let log = std::env::var_os("RUST_LOG");
-    let mut cmd = std::process::Command::new(child);
-    cmd.args(child_args).env_clear().env("RUST_BACKTRACE", "0");
-    if let Some(log) = log {
-        cmd.env("RUST_LOG", log);
+    let cstr = |s: &std::ffi::OsStr| {
+        use std::os::unix::ffi::OsStrExt;
+        std::ffi::CString::new(s.as_bytes()).unwrap_or_default()
+    };
+    let argv: Vec<std::ffi::CString> = std::iter::once(child.as_os_str())
+        .chain(child_args.iter().map(|a| a.as_os_str()))
+        .map(cstr)
+        .collect();
+    let mut envp = vec![cstr("RUST_BACKTRACE=0".as_ref())];
+    if let Some(log) = std::env::var_os("RUST_LOG") {
+        let mut kv = OsString::from("RUST_LOG=");
+        kv.push(log);
+        envp.push(cstr(&kv));
     }
-    let err = cmd.exec();
-    format!("cannot start {}: {err}", child.display())
+    let ptrs = |v: &[std::ffi::CString]| -> Vec<*const libc::c_char> {
+        v.iter()
+            .map(|c| c.as_ptr())
+            .chain(std::iter::once(std::ptr::null()))
+            .collect()
+    };
+    let (argv_p, envp_p) = (ptrs(&argv), ptrs(&envp));
+    // SAFETY: null-terminated arrays of C strings that outlive the call.
+    unsafe {
+        libc::fexecve(program.as_raw_fd(), argv_p.as_ptr(), envp_p.as_ptr());
+    }
+    format!(
+        "cannot start {}: {}",
+        child.display(),
+        std::io::Error::last_os_error()
+    )
 }
 
 /// The protections in force, from the launcher's status frame, as the
