@@ -10,6 +10,12 @@ use reference::cases::{self, Case};
 use reference::solution::{self, Weights};
 use reference::{handout, lab_root, mutants};
 
+mod bench;
+
+/// Counts heap bytes for `bench`'s peak figures (a pass-through otherwise).
+#[global_allocator]
+static ALLOCATOR: bench::Counting = bench::Counting;
+
 /// The reference solution and the TAs' tool: regenerate fixtures, add cases,
 /// run the reference on any OBJ, export the student handout, grade.
 ///
@@ -201,12 +207,30 @@ enum Command {
         #[arg(long = "implementation")]
         implementation: String,
     },
-    /// Print timings: a full grade of the reference (child processes and
-    /// all) and the reference's subdivision of growing meshes.
+    /// Print figures (build it with --release): building and subdividing
+    /// icospheres and a torus, per phase, peak bytes; a full grade of the
+    /// reference; a student's edit -> verdict. See docs/performance.md.
     Bench {
-        /// Full grades to time.
-        #[arg(long, default_value_t = 5)]
-        runs: usize,
+        /// Timed runs of every figure (median and spread are printed).
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        runs: u64,
+        /// Icosphere levels to subdivide, 0 to 8 (level 8 needs about 3 GB for
+        /// two rounds).
+        #[arg(long, value_delimiter = ',', default_value = "4,5,6,7",
+              value_parser = clap::value_parser!(u64).range(0..=8))]
+        levels: Vec<u64>,
+        /// Leave out the 200 x 100 torus.
+        #[arg(long)]
+        no_torus: bool,
+        /// Where the input meshes are written as OBJ [default: target/bench-meshes].
+        #[arg(long, value_name = "DIR")]
+        obj_dir: Option<PathBuf>,
+        /// Leave out the full grades of the reference.
+        #[arg(long)]
+        no_grade: bool,
+        /// Leave out edit -> verdict (it runs cargo on the lab's workspace).
+        #[arg(long)]
+        no_edit: bool,
     },
 }
 
@@ -609,7 +633,21 @@ fn run(command: Command) -> Result<ExitCode, String> {
             let entry = find_implementation(&implementation)?;
             grader::child::serve(&entry.imp)
         }
-        Command::Bench { runs } => bench(runs.max(1)),
+        Command::Bench {
+            runs,
+            levels,
+            no_torus,
+            obj_dir,
+            no_grade,
+            no_edit,
+        } => bench::run(&bench::Options {
+            runs: runs as usize,
+            levels: levels.into_iter().map(|l| l as usize).collect(),
+            torus: !no_torus,
+            obj_dir: obj_dir.unwrap_or_else(|| lab_root().join("target").join("bench-meshes")),
+            grade: !no_grade,
+            edit: !no_edit,
+        }),
         Command::Gradescope {
             dir,
             bonus,
@@ -725,53 +763,6 @@ fn fixtures(root: &Path, check: bool, weights: Weights) -> Result<ExitCode, Stri
             "{} fixtures, {} written, the rest unchanged",
             files.len(),
             stale.len()
-        );
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-fn median(mut times: Vec<f64>) -> f64 {
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
-}
-
-fn bench(runs: usize) -> Result<ExitCode, String> {
-    use std::time::Instant;
-    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let cases = cases::builtin(Weights::Warren).len();
-    let mut times = Vec::new();
-    for _ in 0..runs {
-        let start = Instant::now();
-        let status = std::process::Command::new(&exe)
-            .args(["grade", "--bonus", "--format", "json"])
-            .stdout(std::process::Stdio::null())
-            .status()
-            .map_err(|e| e.to_string())?;
-        if !status.success() {
-            return Err("the reference did not pass its own grade".into());
-        }
-        times.push(start.elapsed().as_secs_f64());
-    }
-    println!(
-        "full grade of the reference, {cases} cases in child processes: median {:.3} s, min {:.3} s over {runs} runs",
-        median(times.clone()),
-        times.iter().copied().fold(f64::INFINITY, f64::min)
-    );
-    for level in 0..=4 {
-        let mesh = halfedge::shapes::icosphere(level);
-        let mut ts = Vec::new();
-        let mut faces = 0;
-        for _ in 0..3 {
-            let mut m = mesh.clone();
-            let start = Instant::now();
-            solution::loop_subdivide(&mut m);
-            ts.push(start.elapsed().as_secs_f64());
-            faces = m.num_real_faces();
-        }
-        println!(
-            "loop_subdivide, icosphere({level}): {} -> {faces} faces in {:.2} ms (median of 3)",
-            mesh.num_real_faces(),
-            median(ts) * 1e3
         );
     }
     Ok(ExitCode::SUCCESS)
