@@ -101,15 +101,20 @@ enum Command {
         #[command(flatten)]
         weights: WeightOpt,
     },
-    /// Subdivide an OBJ with the reference and write the result.
+    /// Subdivide an OBJ with the reference and write the result. The size of
+    /// the result is estimated first; long runs report each round.
     Subdivide {
         input: PathBuf,
-        /// Rounds of subdivision: 1 to 10, and at most 2000000 faces in
+        /// Rounds of subdivision: 1 to 10, and at most --max-faces faces in
         /// the result.
         #[arg(short = 'n', long, default_value_t = 1)]
         rounds: usize,
         #[arg(short = 'o', long)]
         output: PathBuf,
+        /// Most faces the result may have (each takes about 300 bytes of
+        /// memory until it is written).
+        #[arg(long, value_name = "N", default_value_t = MAX_SUBDIVIDE_FACES)]
+        max_faces: usize,
         #[command(flatten)]
         weights: WeightOpt,
     },
@@ -254,9 +259,12 @@ fn fixtures_dir(dir: Option<PathBuf>) -> PathBuf {
 
 /// Most rounds `subdivide` and `add --subdivide` take.
 const MAX_ROUNDS: usize = 10;
-/// Most faces `subdivide` makes: each round multiplies them by four, and two
-/// million faces already take about half a gigabyte.
+/// Most faces `subdivide` makes unless `--max-faces` says more: each round
+/// multiplies them by four, and two million faces take about 0.6 GB until
+/// they are written.
 const MAX_SUBDIVIDE_FACES: usize = 2_000_000;
+/// Results at least this big report each round as it ends.
+const PROGRESS_FACES: usize = 1_000_000;
 /// Most faces a fixture from `add` may expect: every grade reads the file.
 const MAX_FIXTURE_FACES: usize = 50_000;
 /// Reader warnings printed one by one; the summary line counts them all.
@@ -310,6 +318,49 @@ fn check_rounds(flag: &str, rounds: usize, mesh: &Mesh, max_faces: usize) -> Res
         ));
     }
     Ok(())
+}
+
+/// What `rounds` of Loop subdivision make of a triangle mesh, counted
+/// exactly (each edge gains a vertex and becomes two edges, each face four
+/// faces and three edges), and about how much memory that takes until it is
+/// written.
+struct SubdivisionSize {
+    vertices: usize,
+    faces: usize,
+    bytes: usize,
+}
+
+impl SubdivisionSize {
+    fn of(mesh: &Mesh, rounds: usize) -> SubdivisionSize {
+        let (mut v, mut e, mut f) = (mesh.num_vertices(), mesh.num_edges(), mesh.num_real_faces());
+        let holes = mesh.num_faces() - f;
+        for _ in 0..rounds {
+            v = v.saturating_add(e);
+            e = e.saturating_mul(2).saturating_add(f.saturating_mul(3));
+            f = f.saturating_mul(4);
+        }
+        // The arenas (56, 32, 8 bytes a vertex, edge, face; two 20-byte
+        // halfedges an edge), then writing: the indexed faces (24 a vertex,
+        // about 64 a face) and the OBJ text (about 60 a vertex, 25 a face).
+        let bytes = v
+            .saturating_mul(56 + 24 + 60)
+            .saturating_add(e.saturating_mul(32 + 40))
+            .saturating_add(f.saturating_add(holes).saturating_mul(8 + 64 + 25));
+        SubdivisionSize {
+            vertices: v,
+            faces: f,
+            bytes,
+        }
+    }
+}
+
+/// The memory the system could give this process now (Linux's
+/// `MemAvailable`), if it says.
+fn memory_available() -> Option<usize> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: usize = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
 }
 
 /// Checks a tolerance against the range fixtures allow (the grader's own
@@ -524,10 +575,17 @@ fn run(command: Command) -> Result<ExitCode, String> {
             input,
             rounds,
             output,
+            max_faces,
             weights,
         } => {
             let mut mesh = read_obj(&input)?;
-            check_rounds("--rounds", rounds, &mesh, MAX_SUBDIVIDE_FACES)?;
+            check_rounds("--rounds", rounds, &mesh, max_faces).map_err(|e| {
+                if rounds <= MAX_ROUNDS {
+                    format!("{e} (or raise --max-faces)")
+                } else {
+                    e
+                }
+            })?;
             if let Some(f) = mesh.first_non_triangle() {
                 return Err(format!(
                     "{}: subdivision needs triangles, but face {} has {} sides",
@@ -536,8 +594,43 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     mesh.face_degree(f)
                 ));
             }
-            for _ in 0..rounds {
+            let size = SubdivisionSize::of(&mesh, rounds);
+            if let Some(available) = memory_available() {
+                if size.bytes > available {
+                    return Err(format!(
+                        "--rounds {rounds}: the result ({} faces) needs about {:.1} GB of \
+                         memory until it is written, but only {:.1} GB are available: use \
+                         fewer rounds",
+                        size.faces,
+                        size.bytes as f64 / 1e9,
+                        available as f64 / 1e9
+                    ));
+                }
+            }
+            let progress = size.faces >= PROGRESS_FACES;
+            if progress {
+                eprintln!(
+                    "subdividing {} faces {rounds} times: about {} vertices and {} faces, \
+                     {:.1} GB of memory",
+                    mesh.num_real_faces(),
+                    size.vertices,
+                    size.faces,
+                    size.bytes as f64 / 1e9
+                );
+            }
+            let start = std::time::Instant::now();
+            for round in 1..=rounds {
                 solution::loop_subdivide_with(&mut mesh, Weights::from(weights.weights));
+                if progress {
+                    eprintln!(
+                        "round {round} of {rounds} done: {} faces, {:.1} s",
+                        mesh.num_real_faces(),
+                        start.elapsed().as_secs_f64()
+                    );
+                }
+            }
+            if progress {
+                eprintln!("checking the result and writing {}...", output.display());
             }
             write_obj(&mesh, &input, "subdivision", &output)?;
             println!(
