@@ -127,20 +127,34 @@ impl Stats {
     }
 }
 
+/// The CPU time this thread has used, in seconds: unlike the wall clock it
+/// does not count time spent waiting for a core another program holds.
+fn cpu_now() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec, which `ts` is.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
 /// The lab's phases, timed one by one (the body of
 /// `solution::loop_subdivide_with`, with a clock between the steps).
 const PHASES: [&str; 5] = ["vertex", "edge", "split", "flip", "move"];
 
 fn subdivide_in_phases(mesh: &mut Mesh, times: &mut [f64; 5]) {
-    let mut clock = Instant::now();
+    let mut clock = cpu_now();
     let mut lap = |i: usize, times: &mut [f64; 5]| {
-        times[i] += clock.elapsed().as_secs_f64();
-        clock = Instant::now();
+        let now = cpu_now();
+        times[i] += now - clock;
+        clock = now;
     };
     solution::vertex_points(mesh, Weights::Warren);
     lap(0, times);
     solution::edge_points(mesh);
     lap(1, times);
+    solution::reserve_round(mesh);
     let old: Vec<EdgeId> = mesh.edge_ids().collect();
     solution::split_edges(mesh, &old, solution::split_edge);
     lap(2, times);
@@ -204,8 +218,9 @@ pub fn run(options: &Options) -> Result<ExitCode, String> {
     let runs = options.runs;
     println!("machine: {}", machine());
     println!(
-        "each figure: median [min-max] of {runs} runs, one thread; peak bytes from a counting \
-         allocator (the mesh's own arenas and every temporary, per output face)"
+        "each figure: median [min-max] of {runs} runs, one thread; rates and ns/face from the \
+         thread's CPU time (steadier than the wall clock on a shared machine); peak bytes from \
+         a counting allocator (the mesh's own arenas and every temporary, per output face)"
     );
 
     let inputs = inputs(options);
@@ -226,20 +241,22 @@ pub fn run(options: &Options) -> Result<ExitCode, String> {
     println!();
     println!("building from indexed faces (Mesh::from_faces)");
     println!(
-        "{:<16} {:>9} {:>9} {:>24} {:>12}",
-        "mesh", "vertices", "faces", "ms", "M faces/s"
+        "{:<16} {:>9} {:>9} {:>24} {:>9} {:>12}",
+        "mesh", "vertices", "faces", "wall ms", "cpu ms", "M faces/s"
     );
     for input in &inputs {
         let (positions, faces) = input.mesh.to_faces();
-        let times: Vec<f64> = (0..runs).map(|_| time_build(&positions, &faces)).collect();
-        let stats = Stats::of(times);
+        let times: Vec<(f64, f64)> = (0..runs).map(|_| time_build(&positions, &faces)).collect();
+        let wall = Stats::of(times.iter().map(|t| t.0).collect());
+        let cpu = Stats::of(times.iter().map(|t| t.1).collect());
         println!(
-            "{:<16} {:>9} {:>9} {:>24} {:>12.2}",
+            "{:<16} {:>9} {:>9} {:>24} {:>9.2} {:>12.2}",
             input.name,
             positions.len(),
             faces.len(),
-            stats.ms(),
-            faces.len() as f64 / stats.median / 1e6
+            wall.ms(),
+            cpu.median * 1e3,
+            faces.len() as f64 / cpu.median / 1e6
         );
     }
 
@@ -250,10 +267,11 @@ pub fn run(options: &Options) -> Result<ExitCode, String> {
             if rounds == 1 { "" } else { "s" }
         );
         println!(
-            "{:<16} {:>10} {:>24} {:>10} {:>8} {:>8}   phases, ms: {}",
+            "{:<16} {:>10} {:>24} {:>8} {:>10} {:>8} {:>8}   phases, cpu ms: {}",
             "mesh",
             "out faces",
-            "ms",
+            "wall ms",
+            "cpu ms",
             "M faces/s",
             "ns/face",
             "B/face",
@@ -262,12 +280,13 @@ pub fn run(options: &Options) -> Result<ExitCode, String> {
         for input in &inputs {
             let row = time_subdivide(&input.mesh, rounds, runs);
             println!(
-                "{:<16} {:>10} {:>24} {:>10.2} {:>8.1} {:>8.0}   {}",
+                "{:<16} {:>10} {:>24} {:>8.2} {:>10.2} {:>8.1} {:>8.0}   {}",
                 input.name,
                 row.faces,
                 row.total.ms(),
-                row.faces as f64 / row.total.median / 1e6,
-                row.total.median * 1e9 / row.faces as f64,
+                row.cpu * 1e3,
+                row.faces as f64 / row.cpu / 1e6,
+                row.cpu * 1e9 / row.faces as f64,
                 row.peak_bytes as f64 / row.faces as f64,
                 row.phases
                     .iter()
@@ -289,10 +308,11 @@ pub fn run(options: &Options) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn time_build(positions: &[DVec3], faces: &[Vec<usize>]) -> f64 {
-    let start = Instant::now();
+/// Wall and CPU seconds of one build.
+fn time_build(positions: &[DVec3], faces: &[Vec<usize>]) -> (f64, f64) {
+    let (start, cpu) = (Instant::now(), cpu_now());
     let mesh = Mesh::from_faces(positions, faces).expect("a generated mesh builds");
-    let t = start.elapsed().as_secs_f64();
+    let t = (start.elapsed().as_secs_f64(), cpu_now() - cpu);
     drop(mesh);
     t
 }
@@ -300,6 +320,8 @@ fn time_build(positions: &[DVec3], faces: &[Vec<usize>]) -> f64 {
 struct Row {
     faces: usize,
     total: Stats,
+    /// Median CPU seconds of the rounds.
+    cpu: f64,
     /// Median time of each phase, summed over the rounds, in seconds.
     phases: [f64; 5],
     /// The most heap in use during the rounds, above what was in use before
@@ -309,16 +331,18 @@ struct Row {
 
 fn time_subdivide(input: &Mesh, rounds: usize, runs: usize) -> Row {
     let mut totals = Vec::new();
+    let mut cpus = Vec::new();
     let mut faces = 0;
     let mut peak_bytes = 0;
     for _ in 0..runs {
         let before = in_use();
         let mut mesh = input.clone();
         reset_peak();
-        let start = Instant::now();
+        let (start, cpu) = (Instant::now(), cpu_now());
         for _ in 0..rounds {
             solution::loop_subdivide(&mut mesh);
         }
+        cpus.push(cpu_now() - cpu);
         totals.push(start.elapsed().as_secs_f64());
         peak_bytes = peak_bytes.max(peak() - before);
         faces = mesh.num_real_faces();
@@ -339,6 +363,7 @@ fn time_subdivide(input: &Mesh, rounds: usize, runs: usize) -> Row {
     Row {
         faces,
         total: Stats::of(totals),
+        cpu: Stats::of(cpus).median,
         phases,
         peak_bytes,
     }

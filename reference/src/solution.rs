@@ -345,8 +345,13 @@ pub fn flip_old_new(
     flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
 ) {
     for &e in edges {
+        // The flag first: half the edges are old, and reading it alone keeps
+        // their halfedges and vertices out of the cache.
+        if !mesh[e].is_new {
+            continue;
+        }
         let (a, b) = mesh.edge_vertices(e);
-        if mesh[e].is_new && mesh[a].is_new != mesh[b].is_new {
+        if mesh[a].is_new != mesh[b].is_new {
             flip(mesh, e);
         }
     }
