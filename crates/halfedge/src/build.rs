@@ -462,25 +462,32 @@ fn first_duplicate(
     }
 
     let mut found: Option<(usize, usize)> = None;
-    let mut keys: Vec<(Vec<u32>, usize)> = Vec::new();
+    // A bucket's faces' sorted corners, one after the other (no allocation
+    // per face), and (start in `sorted`, face) for each.
+    let mut sorted: Vec<u32> = Vec::new();
+    let mut keys: Vec<(usize, usize)> = Vec::new();
     for v in 0..vertex_count {
         let bucket = &by_smallest[start[v] as usize..start[v + 1] as usize];
         if bucket.len() < 2 {
             continue;
         }
+        sorted.clear();
         keys.clear();
         for &face in bucket {
             let face = face as usize;
             let first = corners.first[face] as usize;
-            let mut key = corners.src[first..first + faces[face].len()].to_vec();
-            key.sort_unstable();
-            keys.push((key, face));
+            let at = sorted.len();
+            sorted.extend_from_slice(&corners.src[first..first + faces[face].len()]);
+            sorted[at..].sort_unstable();
+            keys.push((at, face));
         }
+        let key = |&(at, face): &(usize, usize)| &sorted[at..at + faces[face].len()];
         // By vertices, then by face: each run of equal vertices starts with
         // its earliest two faces.
-        keys.sort_unstable();
+        keys.sort_unstable_by(|x, y| key(x).cmp(key(y)).then(x.1.cmp(&y.1)));
         for pair in keys.windows(2) {
-            if pair[0].0 == pair[1].0 && found.is_none_or(|(_, second)| pair[1].1 < second) {
+            if key(&pair[0]) == key(&pair[1]) && found.is_none_or(|(_, second)| pair[1].1 < second)
+            {
                 found = Some((pair[0].1, pair[1].1));
             }
         }
