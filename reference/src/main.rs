@@ -10,6 +10,12 @@ use reference::cases::{self, Case};
 use reference::solution::{self, Weights};
 use reference::{handout, lab_root, mutants};
 
+mod bench;
+
+/// Counts heap bytes for `bench`'s peak figures (a pass-through otherwise).
+#[global_allocator]
+static ALLOCATOR: bench::Counting = bench::Counting;
+
 /// The reference solution and the TAs' tool: regenerate fixtures, add cases,
 /// run the reference on any OBJ, export the student handout, grade.
 ///
@@ -95,15 +101,20 @@ enum Command {
         #[command(flatten)]
         weights: WeightOpt,
     },
-    /// Subdivide an OBJ with the reference and write the result.
+    /// Subdivide an OBJ with the reference and write the result. The size of
+    /// the result is estimated first; long runs report each round.
     Subdivide {
         input: PathBuf,
-        /// Rounds of subdivision: 1 to 10, and at most 2000000 faces in
+        /// Rounds of subdivision: 1 to 10, and at most --max-faces faces in
         /// the result.
         #[arg(short = 'n', long, default_value_t = 1)]
         rounds: usize,
         #[arg(short = 'o', long)]
         output: PathBuf,
+        /// Most faces the result may have (each takes about 300 bytes of
+        /// memory until it is written).
+        #[arg(long, value_name = "N", default_value_t = MAX_SUBDIVIDE_FACES)]
+        max_faces: usize,
         #[command(flatten)]
         weights: WeightOpt,
     },
@@ -201,12 +212,30 @@ enum Command {
         #[arg(long = "implementation")]
         implementation: String,
     },
-    /// Print timings: a full grade of the reference (child processes and
-    /// all) and the reference's subdivision of growing meshes.
+    /// Print figures (build it with --release): building and subdividing
+    /// icospheres and a torus, per phase, peak bytes; a full grade of the
+    /// reference; a student's edit -> verdict. See docs/performance.md.
     Bench {
-        /// Full grades to time.
-        #[arg(long, default_value_t = 5)]
-        runs: usize,
+        /// Timed runs of every figure (median and spread are printed).
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        runs: u64,
+        /// Icosphere levels to subdivide, 0 to 8 (level 8 needs about 3 GB for
+        /// two rounds).
+        #[arg(long, value_delimiter = ',', default_value = "4,5,6,7",
+              value_parser = clap::value_parser!(u64).range(0..=8))]
+        levels: Vec<u64>,
+        /// Leave out the 200 x 100 torus.
+        #[arg(long)]
+        no_torus: bool,
+        /// Where the input meshes are written as OBJ [default: target/bench-meshes].
+        #[arg(long, value_name = "DIR")]
+        obj_dir: Option<PathBuf>,
+        /// Leave out the full grades of the reference.
+        #[arg(long)]
+        no_grade: bool,
+        /// Leave out edit -> verdict (it runs cargo on the lab's workspace).
+        #[arg(long)]
+        no_edit: bool,
     },
 }
 
@@ -230,9 +259,12 @@ fn fixtures_dir(dir: Option<PathBuf>) -> PathBuf {
 
 /// Most rounds `subdivide` and `add --subdivide` take.
 const MAX_ROUNDS: usize = 10;
-/// Most faces `subdivide` makes: each round multiplies them by four, and two
-/// million faces already take about half a gigabyte.
+/// Most faces `subdivide` makes unless `--max-faces` says more: each round
+/// multiplies them by four, and two million faces take about 0.6 GB until
+/// they are written.
 const MAX_SUBDIVIDE_FACES: usize = 2_000_000;
+/// Results at least this big report each round as it ends.
+const PROGRESS_FACES: usize = 1_000_000;
 /// Most faces a fixture from `add` may expect: every grade reads the file.
 const MAX_FIXTURE_FACES: usize = 50_000;
 /// Reader warnings printed one by one; the summary line counts them all.
@@ -286,6 +318,49 @@ fn check_rounds(flag: &str, rounds: usize, mesh: &Mesh, max_faces: usize) -> Res
         ));
     }
     Ok(())
+}
+
+/// What `rounds` of Loop subdivision make of a triangle mesh, counted
+/// exactly (each edge gains a vertex and becomes two edges, each face four
+/// faces and three edges), and about how much memory that takes until it is
+/// written.
+struct SubdivisionSize {
+    vertices: usize,
+    faces: usize,
+    bytes: usize,
+}
+
+impl SubdivisionSize {
+    fn of(mesh: &Mesh, rounds: usize) -> SubdivisionSize {
+        let (mut v, mut e, mut f) = (mesh.num_vertices(), mesh.num_edges(), mesh.num_real_faces());
+        let holes = mesh.num_faces() - f;
+        for _ in 0..rounds {
+            v = v.saturating_add(e);
+            e = e.saturating_mul(2).saturating_add(f.saturating_mul(3));
+            f = f.saturating_mul(4);
+        }
+        // The arenas (56, 32, 8 bytes a vertex, edge, face; two 20-byte
+        // halfedges an edge), then writing: the indexed faces (24 a vertex,
+        // about 64 a face) and the OBJ text (about 60 a vertex, 25 a face).
+        let bytes = v
+            .saturating_mul(56 + 24 + 60)
+            .saturating_add(e.saturating_mul(32 + 40))
+            .saturating_add(f.saturating_add(holes).saturating_mul(8 + 64 + 25));
+        SubdivisionSize {
+            vertices: v,
+            faces: f,
+            bytes,
+        }
+    }
+}
+
+/// The memory the system could give this process now (Linux's
+/// `MemAvailable`), if it says.
+fn memory_available() -> Option<usize> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: usize = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
 }
 
 /// Checks a tolerance against the range fixtures allow (the grader's own
@@ -502,10 +577,17 @@ fn run(command: Command) -> Result<ExitCode, String> {
             input,
             rounds,
             output,
+            max_faces,
             weights,
         } => {
             let mut mesh = read_obj(&input)?;
-            check_rounds("--rounds", rounds, &mesh, MAX_SUBDIVIDE_FACES)?;
+            check_rounds("--rounds", rounds, &mesh, max_faces).map_err(|e| {
+                if rounds <= MAX_ROUNDS {
+                    format!("{e} (or raise --max-faces)")
+                } else {
+                    e
+                }
+            })?;
             if let Some(f) = mesh.first_non_triangle() {
                 return Err(format!(
                     "{}: subdivision needs triangles, but face {} has {} sides",
@@ -514,8 +596,43 @@ fn run(command: Command) -> Result<ExitCode, String> {
                     mesh.face_degree(f)
                 ));
             }
-            for _ in 0..rounds {
+            let size = SubdivisionSize::of(&mesh, rounds);
+            if let Some(available) = memory_available() {
+                if size.bytes > available {
+                    return Err(format!(
+                        "--rounds {rounds}: the result ({} faces) needs about {:.1} GB of \
+                         memory until it is written, but only {:.1} GB are available: use \
+                         fewer rounds",
+                        size.faces,
+                        size.bytes as f64 / 1e9,
+                        available as f64 / 1e9
+                    ));
+                }
+            }
+            let progress = size.faces >= PROGRESS_FACES;
+            if progress {
+                eprintln!(
+                    "subdividing {} faces {rounds} times: about {} vertices and {} faces, \
+                     {:.1} GB of memory",
+                    mesh.num_real_faces(),
+                    size.vertices,
+                    size.faces,
+                    size.bytes as f64 / 1e9
+                );
+            }
+            let start = std::time::Instant::now();
+            for round in 1..=rounds {
                 solution::loop_subdivide_with(&mut mesh, Weights::from(weights.weights));
+                if progress {
+                    eprintln!(
+                        "round {round} of {rounds} done: {} faces, {:.1} s",
+                        mesh.num_real_faces(),
+                        start.elapsed().as_secs_f64()
+                    );
+                }
+            }
+            if progress {
+                eprintln!("checking the result and writing {}...", output.display());
             }
             write_obj(&mesh, &input, "subdivision", &output)?;
             println!(
@@ -611,7 +728,21 @@ fn run(command: Command) -> Result<ExitCode, String> {
             let entry = find_implementation(&implementation)?;
             grader::child::serve(&entry.imp)
         }
-        Command::Bench { runs } => bench(runs.max(1)),
+        Command::Bench {
+            runs,
+            levels,
+            no_torus,
+            obj_dir,
+            no_grade,
+            no_edit,
+        } => bench::run(&bench::Options {
+            runs: runs as usize,
+            levels: levels.into_iter().map(|l| l as usize).collect(),
+            torus: !no_torus,
+            obj_dir: obj_dir.unwrap_or_else(|| lab_root().join("target").join("bench-meshes")),
+            grade: !no_grade,
+            edit: !no_edit,
+        }),
         Command::Gradescope {
             dir,
             bonus,
@@ -727,53 +858,6 @@ fn fixtures(root: &Path, check: bool, weights: Weights) -> Result<ExitCode, Stri
             "{} fixtures, {} written, the rest unchanged",
             files.len(),
             stale.len()
-        );
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-fn median(mut times: Vec<f64>) -> f64 {
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
-}
-
-fn bench(runs: usize) -> Result<ExitCode, String> {
-    use std::time::Instant;
-    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let cases = cases::builtin(Weights::Warren).len();
-    let mut times = Vec::new();
-    for _ in 0..runs {
-        let start = Instant::now();
-        let status = std::process::Command::new(&exe)
-            .args(["grade", "--bonus", "--format", "json"])
-            .stdout(std::process::Stdio::null())
-            .status()
-            .map_err(|e| e.to_string())?;
-        if !status.success() {
-            return Err("the reference did not pass its own grade".into());
-        }
-        times.push(start.elapsed().as_secs_f64());
-    }
-    println!(
-        "full grade of the reference, {cases} cases in child processes: median {:.3} s, min {:.3} s over {runs} runs",
-        median(times.clone()),
-        times.iter().copied().fold(f64::INFINITY, f64::min)
-    );
-    for level in 0..=4 {
-        let mesh = halfedge::shapes::icosphere(level);
-        let mut ts = Vec::new();
-        let mut faces = 0;
-        for _ in 0..3 {
-            let mut m = mesh.clone();
-            let start = Instant::now();
-            solution::loop_subdivide(&mut m);
-            ts.push(start.elapsed().as_secs_f64());
-            faces = m.num_real_faces();
-        }
-        println!(
-            "loop_subdivide, icosphere({level}): {} -> {faces} faces in {:.2} ms (median of 3)",
-            mesh.num_real_faces(),
-            median(ts) * 1e3
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -213,6 +213,7 @@ pub fn loop_subdivide_with(mesh: &mut Mesh, weights: Weights) {
     }
     vertex_points(mesh, weights);
     edge_points(mesh);
+    reserve_round(mesh);
     let old_edges: Vec<EdgeId> = mesh.edge_ids().collect();
     split_edges(mesh, &old_edges, split_edge);
     let all_edges: Vec<EdgeId> = mesh.edge_ids().collect();
@@ -220,18 +221,62 @@ pub fn loop_subdivide_with(mesh: &mut Mesh, weights: Weights) {
     move_vertices(mesh);
 }
 
+/// Makes room for everything one round adds, so that no arena moves while
+/// splitting (a speed-up only: see `Mesh::reserve`). Splitting an edge
+/// between two triangles adds 1 vertex, 3 edges, 2 faces and 6 halfedges;
+/// beside a hole, 1, 2, 1 and 4.
+pub fn reserve_round(mesh: &mut Mesh) {
+    let edges = mesh.num_edges();
+    // A hole's halfedges are its boundary edges, one each.
+    let on_holes: usize = mesh
+        .face_ids()
+        .filter(|&f| mesh[f].is_boundary)
+        .map(|f| mesh.face_degree(f))
+        .sum();
+    mesh.reserve(
+        edges,
+        3 * edges - on_holes,
+        2 * edges - on_holes,
+        6 * edges - 2 * on_holes,
+    );
+}
+
+/// Walks once around `v` (as `vertex_halfedges` does, without collecting):
+/// the number of edges, the sum of the neighbours' positions in the walk's
+/// order, and whether a hole touches `v`.
+fn around_vertex(mesh: &Mesh, v: VertexId) -> (usize, DVec3, bool) {
+    let start = mesh[v].halfedge;
+    let (mut n, mut sum, mut on_boundary) = (0, DVec3::ZERO, false);
+    let mut h = start;
+    loop {
+        let t = mesh[h].twin;
+        n += 1;
+        sum += mesh[mesh[t].vertex].pos;
+        on_boundary |= mesh[mesh[h].face].is_boundary;
+        h = mesh[t].next;
+        if h == start {
+            return (n, sum, on_boundary);
+        }
+        if n > mesh.num_halfedges() {
+            panic!(
+                "the walk around {v} never came back to where it started: the mesh's links \
+                 are broken (call mesh.validate() to find where)"
+            );
+        }
+    }
+}
+
 /// Step 1a: where each old vertex goes, into `new_pos`; marks it old.
 pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
     for v in mesh.vertex_ids() {
         let p = mesh[v].pos;
-        mesh[v].new_pos = if mesh.vertex_on_boundary(v) {
+        let (n, sum, on_boundary) = around_vertex(mesh, v);
+        mesh[v].new_pos = if on_boundary {
             let [x, y] = boundary_neighbours(mesh, v);
             0.75 * p + 0.125 * (mesh[x].pos + mesh[y].pos)
         } else {
-            let ns = mesh.vertex_neighbors(v);
-            let u = weights.neighbour_weight(ns.len());
-            let sum: DVec3 = ns.iter().map(|&n| mesh[n].pos).sum();
-            (1.0 - ns.len() as f64 * u) * p + u * sum
+            let u = weights.neighbour_weight(n);
+            (1.0 - n as f64 * u) * p + u * sum
         };
         mesh[v].is_new = false;
     }
@@ -268,10 +313,26 @@ pub fn split_edges(
         let m = split(mesh, e).expect("split_edge returned None for an edge of a triangle mesh");
         mesh[m].is_new = true;
         mesh[m].new_pos = mesh[e].new_pos;
-        for h in mesh.vertex_halfedges(m) {
-            let end = mesh.halfedge_dst(h);
+        // Around m, as `vertex_halfedges(m)` would, without collecting.
+        let start = mesh[m].halfedge;
+        let mut h = start;
+        let mut steps = 0;
+        loop {
+            let t = mesh[h].twin;
+            let end = mesh[t].vertex;
             let edge = mesh[h].edge;
             mesh[edge].is_new = end != a && end != b;
+            h = mesh[t].next;
+            steps += 1;
+            if h == start {
+                break;
+            }
+            if steps > mesh.num_halfedges() {
+                panic!(
+                    "the walk around {m} never came back to where it started: the mesh's \
+                     links are broken (call mesh.validate() to find where)"
+                );
+            }
         }
     }
 }
@@ -284,8 +345,13 @@ pub fn flip_old_new(
     flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
 ) {
     for &e in edges {
+        // The flag first: half the edges are old, and reading it alone keeps
+        // their halfedges and vertices out of the cache.
+        if !mesh[e].is_new {
+            continue;
+        }
         let (a, b) = mesh.edge_vertices(e);
-        if mesh[e].is_new && mesh[a].is_new != mesh[b].is_new {
+        if mesh[a].is_new != mesh[b].is_new {
             flip(mesh, e);
         }
     }

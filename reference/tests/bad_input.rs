@@ -87,6 +87,41 @@ fn subdivide_rounds_are_range_checked() {
 }
 
 #[test]
+fn subdivide_max_faces_moves_the_limit() {
+    let dir = scratch("max-faces");
+    let out = dir.join("out.obj").display().to_string();
+    let torus = lab("torus");
+    // 144 faces, three rounds: 9216.
+    refused(
+        &run(&[
+            "subdivide",
+            &torus,
+            "-n",
+            "3",
+            "--max-faces",
+            "9000",
+            "-o",
+            &out,
+        ]),
+        "--rounds 3: 144 faces would become 9216, more than the 9000 allowed: \
+         use at most 2 rounds for this mesh (or raise --max-faces)",
+    );
+    assert!(!dir.join("out.obj").exists());
+    let ok = run(&[
+        "subdivide",
+        &torus,
+        "-n",
+        "3",
+        "--max-faces",
+        "9216",
+        "-o",
+        &out,
+    ]);
+    assert_eq!(ok.code, 0, "{}", ok.stderr);
+    assert!(ok.stdout.contains("9216 faces"), "{}", ok.stdout);
+}
+
+#[test]
 fn add_checks_rounds_and_tolerance_against_the_mesh() {
     let dir = scratch("add");
     let fixtures = dir.join("fixtures").display().to_string();

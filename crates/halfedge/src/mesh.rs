@@ -102,13 +102,16 @@ impl Mesh {
         Self::default()
     }
 
+    #[inline]
     pub fn num_vertices(&self) -> usize {
         self.vertices.len()
     }
+    #[inline]
     pub fn num_edges(&self) -> usize {
         self.edges.len()
     }
     /// Counts boundary faces too; see [`Mesh::num_real_faces`].
+    #[inline]
     pub fn num_faces(&self) -> usize {
         self.faces.len()
     }
@@ -116,28 +119,34 @@ impl Mesh {
     pub fn num_real_faces(&self) -> usize {
         self.faces.iter().filter(|f| !f.is_boundary).count()
     }
+    #[inline]
     pub fn num_halfedges(&self) -> usize {
         self.halfedges.len()
     }
     /// Vertices + edges + faces + halfedges: what the growth budget counts.
+    #[inline]
     pub fn num_elements(&self) -> usize {
         self.vertices.len() + self.edges.len() + self.faces.len() + self.halfedges.len()
     }
 
     /// The ids of the vertices that exist now. The iterator holds no borrow,
     /// so you may create elements inside the loop; the new ones are not visited.
+    #[inline]
     pub fn vertex_ids(&self) -> Ids<VertexId> {
         Ids::new(self.vertices.len(), VertexId)
     }
     /// The ids of the edges that exist now (see [`Mesh::vertex_ids`]).
+    #[inline]
     pub fn edge_ids(&self) -> Ids<EdgeId> {
         Ids::new(self.edges.len(), EdgeId)
     }
     /// The ids of the faces that exist now, boundary faces included.
+    #[inline]
     pub fn face_ids(&self) -> Ids<FaceId> {
         Ids::new(self.faces.len(), FaceId)
     }
     /// The ids of the halfedges that exist now.
+    #[inline]
     pub fn halfedge_ids(&self) -> Ids<HalfedgeId> {
         Ids::new(self.halfedges.len(), HalfedgeId)
     }
@@ -149,6 +158,7 @@ impl Mesh {
         self.element_budget = limit;
     }
 
+    #[inline]
     fn charge_one(&self) {
         let process = match PROCESS_BUDGET.load(Ordering::Relaxed) {
             0 => None,
@@ -156,12 +166,25 @@ impl Mesh {
         };
         if let Some(limit) = self.element_budget.or(process) {
             if self.num_elements() >= limit {
-                panic!(
-                    "the mesh grew past {limit} elements (vertices + edges + faces + halfedges): \
-                     is something splitting without end?"
-                );
+                grew_past(limit);
             }
         }
+    }
+
+    /// Makes room for `vertices`, `edges`, `faces` and `halfedges` more
+    /// elements, so that creating them never moves an arena. Optional: it
+    /// changes no id and no result, only speed and peak memory. Splitting an
+    /// edge between two triangles adds 1 vertex, 3 edges, 2 faces and 6
+    /// halfedges (1, 2, 1 and 4 beside a hole), so one round of Loop
+    /// subdivision of a closed triangle mesh with E edges adds E vertices,
+    /// 3E edges, 2E faces and 6E halfedges.
+    pub fn reserve(&mut self, vertices: usize, edges: usize, faces: usize, halfedges: usize) {
+        // Exact: an arena doubled past what is needed would cost more memory
+        // than the whole rest of a round.
+        self.vertices.reserve_exact(vertices);
+        self.edges.reserve_exact(edges);
+        self.faces.reserve_exact(faces);
+        self.halfedges.reserve_exact(halfedges);
     }
 
     /// Builds a mesh from its four arenas as they are, links unchecked: the
@@ -189,6 +212,7 @@ impl Mesh {
 
     /// Adds a vertex at `pos` whose `halfedge` is not set yet, with
     /// `new_pos = DVec3::ZERO` and `is_new = false`.
+    #[inline]
     pub fn new_vertex(&mut self, pos: DVec3) -> VertexId {
         self.charge_one();
         self.vertices.push(Vertex {
@@ -202,6 +226,7 @@ impl Mesh {
 
     /// Adds an edge whose `halfedge` is not set yet, with
     /// `new_pos = DVec3::ZERO` and `is_new = false`.
+    #[inline]
     pub fn new_edge(&mut self) -> EdgeId {
         self.charge_one();
         self.edges.push(Edge {
@@ -213,10 +238,12 @@ impl Mesh {
     }
 
     /// Adds a real (not boundary) face whose `halfedge` is not set yet.
+    #[inline]
     pub fn new_face(&mut self) -> FaceId {
         self.new_face_with(false)
     }
 
+    #[inline]
     pub(crate) fn new_face_with(&mut self, is_boundary: bool) -> FaceId {
         self.charge_one();
         self.faces.push(Face {
@@ -228,6 +255,7 @@ impl Mesh {
 
     /// Adds a halfedge whose fields are all unset: follow with
     /// [`Mesh::set_neighbors`].
+    #[inline]
     pub fn new_halfedge(&mut self) -> HalfedgeId {
         self.charge_one();
         self.halfedges.push(Halfedge {
@@ -242,6 +270,7 @@ impl Mesh {
 
     /// Sets all five fields of halfedge `h` at once, as Scotty3D's
     /// `setNeighbors` does: writing them together makes it hard to forget one.
+    #[inline]
     pub fn set_neighbors(
         &mut self,
         h: HalfedgeId,
@@ -261,6 +290,15 @@ impl Mesh {
     }
 }
 
+#[cold]
+#[inline(never)]
+fn grew_past(limit: usize) -> ! {
+    panic!(
+        "the mesh grew past {limit} elements (vertices + edges + faces + halfedges): \
+         is something splitting without end?"
+    );
+}
+
 /// The process-wide growth budget (0: none), see [`set_process_element_budget`].
 static PROCESS_BUDGET: AtomicUsize = AtomicUsize::new(0);
 
@@ -271,38 +309,33 @@ pub fn set_process_element_budget(limit: Option<usize>) {
     PROCESS_BUDGET.store(limit.unwrap_or(0), Ordering::Relaxed);
 }
 
+/// The message of an id that names no element, kept out of line: indexing is
+/// in every inner loop, and the panic's formatting would bloat each copy.
+#[cold]
+#[inline(never)]
+fn no_such(kind: &str, id: &dyn std::fmt::Display, len: usize) -> ! {
+    panic!("there is no {kind} {id} (the mesh has {len}): an unset or stale id?")
+}
+
 macro_rules! arena_index {
     ($id:ty, $record:ty, $field:ident, $kind:literal) => {
         impl Index<$id> for Mesh {
             type Output = $record;
+            #[inline]
             fn index(&self, id: $id) -> &$record {
                 match self.$field.get(id.index()) {
                     Some(record) => record,
-                    None => panic!(
-                        concat!(
-                            "there is no ",
-                            $kind,
-                            " {} (the mesh has {}): an unset or stale id?"
-                        ),
-                        id,
-                        self.$field.len()
-                    ),
+                    None => no_such($kind, &id, self.$field.len()),
                 }
             }
         }
         impl IndexMut<$id> for Mesh {
+            #[inline]
             fn index_mut(&mut self, id: $id) -> &mut $record {
                 let len = self.$field.len();
                 match self.$field.get_mut(id.index()) {
                     Some(record) => record,
-                    None => panic!(
-                        concat!(
-                            "there is no ",
-                            $kind,
-                            " {} (the mesh has {}): an unset or stale id?"
-                        ),
-                        id, len
-                    ),
+                    None => no_such($kind, &id, len),
                 }
             }
         }

@@ -14,33 +14,62 @@ use crate::ids::{EdgeId, FaceId, HalfedgeId, VertexId};
 use crate::mesh::Mesh;
 
 impl Mesh {
+    /// Follows `step` from `start` until it comes back, calling `visit` on
+    /// every halfedge on the way (`start` first). Allocates nothing: the
+    /// counting walks (degrees, `prev`, `find_edge`) are in every inner loop
+    /// of subdivision. `around` names the walk, built only for the panic.
+    #[inline]
+    fn walk(
+        &self,
+        start: HalfedgeId,
+        step: impl Fn(HalfedgeId) -> HalfedgeId,
+        around: impl FnOnce() -> String,
+        mut visit: impl FnMut(HalfedgeId),
+    ) {
+        let limit = self.num_halfedges();
+        visit(start);
+        let mut seen = 1;
+        let mut h = step(start);
+        while h != start {
+            if seen > limit {
+                never_came_back(&around());
+            }
+            visit(h);
+            seen += 1;
+            h = step(h);
+        }
+    }
+
     /// Follows `step` from `start` until it comes back, collecting every
     /// halfedge on the way (`start` first).
     fn orbit(
         &self,
         start: HalfedgeId,
         step: impl Fn(HalfedgeId) -> HalfedgeId,
-        around: &dyn std::fmt::Display,
+        around: impl FnOnce() -> String,
     ) -> Vec<HalfedgeId> {
-        let mut out = vec![start];
-        let mut h = step(start);
-        while h != start {
-            if out.len() > self.num_halfedges() {
-                panic!(
-                    "the walk around {around} never came back to where it started: \
-                     the mesh's links are broken (call mesh.validate() to find where)"
-                );
-            }
-            out.push(h);
-            h = step(h);
-        }
+        let mut out = Vec::with_capacity(8);
+        self.walk(start, step, around, |h| out.push(h));
         out
+    }
+
+    /// The number of halfedges `step` visits from `start` until it comes back.
+    #[inline]
+    fn orbit_len(
+        &self,
+        start: HalfedgeId,
+        step: impl Fn(HalfedgeId) -> HalfedgeId,
+        around: impl FnOnce() -> String,
+    ) -> usize {
+        let mut n = 0;
+        self.walk(start, step, around, |_| n += 1);
+        n
     }
 
     /// The halfedges around face `f`, following `next` (the face's own
     /// winding), starting with `mesh[f].halfedge`.
     pub fn face_halfedges(&self, f: FaceId) -> Vec<HalfedgeId> {
-        self.orbit(self[f].halfedge, |h| self[h].next, &f)
+        self.orbit(self[f].halfedge, |h| self[h].next, || f.to_string())
     }
 
     /// The vertices of face `f` in order.
@@ -53,7 +82,7 @@ impl Mesh {
 
     /// The number of sides of face `f` (3 for a triangle).
     pub fn face_degree(&self, f: FaceId) -> usize {
-        self.face_halfedges(f).len()
+        self.orbit_len(self[f].halfedge, |h| self[h].next, || f.to_string())
     }
 
     /// The halfedges that start at `v`, one per incident edge, starting with
@@ -70,7 +99,11 @@ impl Mesh {
     /// On a boundary vertex the walk passes through the hole's face like any
     /// other face, so it still visits every edge at `v`.
     pub fn vertex_halfedges(&self, v: VertexId) -> Vec<HalfedgeId> {
-        self.orbit(self[v].halfedge, |h| self[self[h].twin].next, &v)
+        self.orbit(
+            self[v].halfedge,
+            |h| self[self[h].twin].next,
+            || v.to_string(),
+        )
     }
 
     /// The vertices joined to `v` by an edge, in the order of
@@ -84,23 +117,36 @@ impl Mesh {
 
     /// The number of edges at `v` (boundary edges included).
     pub fn vertex_degree(&self, v: VertexId) -> usize {
-        self.vertex_halfedges(v).len()
+        self.orbit_len(
+            self[v].halfedge,
+            |h| self[self[h].twin].next,
+            || v.to_string(),
+        )
     }
 
     /// Whether `v` lies on a hole: one of the faces around it is a boundary face.
     pub fn vertex_on_boundary(&self, v: VertexId) -> bool {
-        self.vertex_halfedges(v)
-            .into_iter()
-            .any(|h| self[self[h].face].is_boundary)
+        // The whole walk, as `vertex_halfedges` would: a broken mesh panics
+        // the same way whatever the answer.
+        let mut on = false;
+        self.walk(
+            self[v].halfedge,
+            |h| self[self[h].twin].next,
+            || v.to_string(),
+            |h| on |= self[self[h].face].is_boundary,
+        );
+        on
     }
 
     /// Whether edge `e` borders a hole.
+    #[inline]
     pub fn edge_on_boundary(&self, e: EdgeId) -> bool {
         let h = self[e].halfedge;
         self[self[h].face].is_boundary || self[self[self[h].twin].face].is_boundary
     }
 
     /// The two ends of edge `e`: first the start of `mesh[e].halfedge`.
+    #[inline]
     pub fn edge_vertices(&self, e: EdgeId) -> (VertexId, VertexId) {
         let h = self[e].halfedge;
         (self[h].vertex, self.halfedge_dst(h))
@@ -119,21 +165,46 @@ impl Mesh {
     /// same vertex that comes just *before* `h` in
     /// [`Mesh::vertex_halfedges`]: one step of that walk, backwards.
     pub fn prev(&self, h: HalfedgeId) -> HalfedgeId {
-        let around = format!("the face of {h}");
-        let face = self.orbit(h, |g| self[g].next, &around);
-        *face.last().expect("an orbit holds at least its start")
+        let mut last = h;
+        self.walk(
+            h,
+            |g| self[g].next,
+            || format!("the face of {h}"),
+            |g| last = g,
+        );
+        last
     }
 
     /// The vertex halfedge `h` points to (where its twin starts).
+    #[inline]
     pub fn halfedge_dst(&self, h: HalfedgeId) -> VertexId {
         self[self[h].twin].vertex
     }
 
     /// The edge joining `a` and `b`, if there is one.
     pub fn find_edge(&self, a: VertexId, b: VertexId) -> Option<EdgeId> {
-        self.vertex_halfedges(a)
-            .into_iter()
-            .find(|&h| self.halfedge_dst(h) == b)
-            .map(|h| self[h].edge)
+        // The whole walk, first match kept: a broken mesh panics the same way
+        // whether or not the edge comes early.
+        let mut found = None;
+        self.walk(
+            self[a].halfedge,
+            |h| self[self[h].twin].next,
+            || a.to_string(),
+            |h| {
+                if found.is_none() && self.halfedge_dst(h) == b {
+                    found = Some(h);
+                }
+            },
+        );
+        found.map(|h| self[h].edge)
     }
+}
+
+#[cold]
+#[inline(never)]
+fn never_came_back(around: &str) -> ! {
+    panic!(
+        "the walk around {around} never came back to where it started: \
+         the mesh's links are broken (call mesh.validate() to find where)"
+    );
 }

@@ -105,6 +105,68 @@ fn duplicate_faces_are_called_duplicates() {
 }
 
 #[test]
+fn the_first_duplicate_in_face_order_is_named_with_its_earliest_twin() {
+    // Faces are compared in groups by their smallest vertex: the error must
+    // still be the earliest face that repeats one, named with the earliest
+    // face it repeats, whichever group each is in.
+    let p: Vec<DVec3> = (0..8)
+        .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
+        .collect();
+    let faces = vec![
+        vec![4, 5, 6, 7], // 0
+        vec![0, 1, 2],    // 1
+        vec![3, 6, 5],    // 2
+        vec![5, 3, 6],    // 3: repeats 2
+        vec![2, 0, 1],    // 4: repeats 1, but comes later
+        vec![6, 5, 3],    // 5: repeats 2 again
+        vec![7, 6, 5, 4], // 6: repeats 0, a quad
+    ];
+    assert_eq!(
+        build_err(&p, &faces),
+        MeshError::DuplicateFace {
+            first: 2,
+            second: 3
+        }
+    );
+    // The same vertices in another order are the same polygon; fewer or
+    // more vertices are not.
+    let quads = vec![vec![0, 1, 2, 3], vec![0, 1, 2], vec![0, 2, 1, 3]];
+    assert_eq!(
+        build_err(&p, &quads),
+        MeshError::DuplicateFace {
+            first: 0,
+            second: 2
+        }
+    );
+}
+
+#[test]
+fn of_several_edge_problems_the_first_in_face_order_is_named() {
+    // The twins are found vertex by vertex, not face by face: the error is
+    // still the first problem met walking the faces in order.
+    let p: Vec<DVec3> = (0..6)
+        .map(|i| DVec3::new(i as f64, (i * i) as f64, 0.0))
+        .collect();
+    let faces = vec![
+        vec![3, 4, 5],
+        vec![0, 1, 2],
+        vec![4, 3, 0], // 4 -> 3 is the twin of 3 -> 4
+        vec![0, 2, 5], // 0 -> 2 is the twin of 2 -> 0
+        vec![4, 5, 1], // 4 -> 5 again (face 0 runs 4 -> 5): the first problem
+        vec![1, 2, 3], // 1 -> 2 again: found first vertex by vertex
+    ];
+    assert_eq!(
+        build_err(&p, &faces),
+        MeshError::InconsistentOrientation {
+            a: 4,
+            b: 5,
+            first: 0,
+            second: 4
+        }
+    );
+}
+
+#[test]
 fn two_edges_between_the_same_vertices_cannot_be_built() {
     // An indexed face list names an edge by its two vertices, so a second
     // edge between them can only come from a third face on it or a second

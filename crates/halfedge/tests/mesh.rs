@@ -321,3 +321,57 @@ fn vertex_halfedges_turn_against_the_faces() {
     );
     assert_eq!(turn_seen_from_outside(&lab), 1.0);
 }
+
+#[test]
+fn reserve_creates_nothing_and_changes_no_id() {
+    let mut plain = shapes::icosphere(1);
+    let mut reserved = plain.clone();
+    reserved.reserve(5, 5, 5, 5);
+    assert_eq!(reserved.num_elements(), plain.num_elements());
+    for mesh in [&mut plain, &mut reserved] {
+        let v = mesh.new_vertex(DVec3::X);
+        let e = mesh.new_edge();
+        let f = mesh.new_face();
+        let h = mesh.new_halfedge();
+        mesh.set_neighbors(h, h, h, v, e, f);
+    }
+    assert_eq!(reserved.records(), plain.records());
+}
+
+#[test]
+fn the_counting_walks_panic_like_the_collecting_ones() {
+    // vertex_degree and find_edge no longer collect the walk: a broken link
+    // must still end them with the same message, not a loop.
+    let mut mesh = shapes::icosphere(0);
+    let v = VertexId(0);
+    let h = mesh[v].halfedge;
+    // A twin pointing at itself: the walk around v circles at h's far side.
+    let t = mesh[h].twin;
+    let stuck = mesh[t].next;
+    mesh[stuck].twin = t;
+    mesh[t].next = stuck;
+    for (what, result) in [
+        (
+            "vertex_halfedges",
+            panic::catch_unwind(|| mesh.vertex_halfedges(v).len()),
+        ),
+        (
+            "vertex_degree",
+            panic::catch_unwind(|| mesh.vertex_degree(v)),
+        ),
+        (
+            "find_edge",
+            panic::catch_unwind(|| mesh.find_edge(v, VertexId(99)).map_or(0, |e| e.index())),
+        ),
+    ] {
+        let message = result.expect_err(what);
+        let text = message
+            .downcast_ref::<String>()
+            .cloned()
+            .unwrap_or_default();
+        assert!(
+            text.contains("the walk around v0 never came back to where it started"),
+            "{what}: {text:?}"
+        );
+    }
+}

@@ -1,0 +1,448 @@
+//! `reference bench`: figures, not pass/fail (issue 11, `docs/performance.md`).
+//!
+//! Part of the binary only: it owns the counting allocator that measures peak
+//! heap bytes, which must be the program's global allocator.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use halfedge::{DVec3, EdgeId, Mesh};
+use reference::solution::{self, Weights};
+
+/// The system allocator, counting the bytes in use and their peak. Two
+/// relaxed atomic additions per call: nothing next to the allocation itself.
+pub struct Counting;
+
+static IN_USE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+fn grew(bytes: usize) {
+    let now = IN_USE.fetch_add(bytes, Ordering::Relaxed) + bytes;
+    PEAK.fetch_max(now, Ordering::Relaxed);
+}
+
+fn shrank(bytes: usize) {
+    IN_USE.fetch_sub(bytes, Ordering::Relaxed);
+}
+
+// SAFETY: every call is forwarded unchanged to `System`; only counters change.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            grew(layout.size());
+        }
+        p
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc_zeroed(layout) };
+        if !p.is_null() {
+            grew(layout.size());
+        }
+        p
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) };
+        shrank(layout.size());
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let p = unsafe { System.realloc(ptr, layout, new_size) };
+        if !p.is_null() {
+            // A moving realloc holds both blocks for a moment: count that,
+            // since the machine must hold them too.
+            if p != ptr {
+                grew(new_size);
+                shrank(layout.size());
+            } else if new_size >= layout.size() {
+                grew(new_size - layout.size());
+            } else {
+                shrank(layout.size() - new_size);
+            }
+        }
+        p
+    }
+}
+
+/// Heap bytes in use now.
+fn in_use() -> usize {
+    IN_USE.load(Ordering::Relaxed)
+}
+
+/// Starts a new peak from what is in use now.
+fn reset_peak() {
+    PEAK.store(in_use(), Ordering::Relaxed);
+}
+
+fn peak() -> usize {
+    PEAK.load(Ordering::Relaxed)
+}
+
+/// What `bench` measures.
+pub struct Options {
+    /// Timed runs of every figure.
+    pub runs: usize,
+    /// Icosphere levels to subdivide.
+    pub levels: Vec<usize>,
+    /// Include the 200 x 100 torus.
+    pub torus: bool,
+    /// Where the input meshes are written as OBJ.
+    pub obj_dir: PathBuf,
+    /// Time full grades of the reference.
+    pub grade: bool,
+    /// Time edit -> verdict with the student's debug build.
+    pub edit: bool,
+}
+
+/// Median and spread of several runs, in seconds.
+struct Stats {
+    median: f64,
+    min: f64,
+    max: f64,
+}
+
+impl Stats {
+    fn of(mut times: Vec<f64>) -> Stats {
+        times.sort_by(f64::total_cmp);
+        Stats {
+            median: times[times.len() / 2],
+            min: times[0],
+            max: times[times.len() - 1],
+        }
+    }
+    /// `median [min-max]` in milliseconds.
+    fn ms(&self) -> String {
+        format!(
+            "{:.2} [{:.2}-{:.2}]",
+            self.median * 1e3,
+            self.min * 1e3,
+            self.max * 1e3
+        )
+    }
+    /// `median [min-max]` in seconds.
+    fn s(&self) -> String {
+        format!("{:.3} [{:.3}-{:.3}]", self.median, self.min, self.max)
+    }
+}
+
+/// The CPU time this thread has used, in seconds: unlike the wall clock it
+/// does not count time spent waiting for a core another program holds.
+fn cpu_now() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec, which `ts` is.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+/// The lab's phases, timed one by one (the body of
+/// `solution::loop_subdivide_with`, with a clock between the steps).
+const PHASES: [&str; 5] = ["vertex", "edge", "split", "flip", "move"];
+
+fn subdivide_in_phases(mesh: &mut Mesh, times: &mut [f64; 5]) {
+    let mut clock = cpu_now();
+    let mut lap = |i: usize, times: &mut [f64; 5]| {
+        let now = cpu_now();
+        times[i] += now - clock;
+        clock = now;
+    };
+    solution::vertex_points(mesh, Weights::Warren);
+    lap(0, times);
+    solution::edge_points(mesh);
+    lap(1, times);
+    solution::reserve_round(mesh);
+    let old: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::split_edges(mesh, &old, solution::split_edge);
+    lap(2, times);
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    lap(3, times);
+    solution::move_vertices(mesh);
+    lap(4, times);
+}
+
+/// One input mesh of the bench.
+struct Input {
+    name: String,
+    file: String,
+    mesh: Mesh,
+}
+
+fn inputs(options: &Options) -> Vec<Input> {
+    let mut out: Vec<Input> = options
+        .levels
+        .iter()
+        .map(|&level| Input {
+            name: format!("icosphere({level})"),
+            file: format!("icosphere-{level}.obj"),
+            mesh: halfedge::shapes::icosphere(level),
+        })
+        .collect();
+    if options.torus {
+        out.push(Input {
+            name: "torus(200x100)".into(),
+            file: "torus-200x100.obj".into(),
+            mesh: halfedge::shapes::torus(200, 100, 1.0, 0.3),
+        });
+    }
+    out
+}
+
+/// What this machine is, as far as a reader of the figures needs.
+fn machine() -> String {
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = cpuinfo
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map(|s| s.trim().to_string())
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let profile = if cfg!(debug_assertions) {
+        "DEBUG build: figures mean little, run with --release"
+    } else {
+        "release build"
+    };
+    format!(
+        "{model}, {cores} cores available, {} {}; {profile}",
+        std::env::consts::OS,
+        std::env::consts::ARCH
+    )
+}
+
+pub fn run(options: &Options) -> Result<ExitCode, String> {
+    let runs = options.runs;
+    println!("machine: {}", machine());
+    println!(
+        "each figure: median [min-max] of {runs} runs, one thread; rates and ns/face from the \
+         thread's CPU time (steadier than the wall clock on a shared machine); peak bytes from \
+         a counting allocator (the mesh's own arenas and every temporary, per output face)"
+    );
+
+    let inputs = inputs(options);
+    std::fs::create_dir_all(&options.obj_dir)
+        .map_err(|e| format!("{}: {e}", options.obj_dir.display()))?;
+    for input in &inputs {
+        let path = options.obj_dir.join(&input.file);
+        input
+            .mesh
+            .write_obj_file(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    println!(
+        "input meshes written as OBJ to {} (feed the same files to other libraries)",
+        options.obj_dir.display()
+    );
+
+    println!();
+    println!("building from indexed faces (Mesh::from_faces)");
+    println!(
+        "{:<16} {:>9} {:>9} {:>24} {:>9} {:>12}",
+        "mesh", "vertices", "faces", "wall ms", "cpu ms", "M faces/s"
+    );
+    for input in &inputs {
+        let (positions, faces) = input.mesh.to_faces();
+        let times: Vec<(f64, f64)> = (0..runs).map(|_| time_build(&positions, &faces)).collect();
+        let wall = Stats::of(times.iter().map(|t| t.0).collect());
+        let cpu = Stats::of(times.iter().map(|t| t.1).collect());
+        println!(
+            "{:<16} {:>9} {:>9} {:>24} {:>9.2} {:>12.2}",
+            input.name,
+            positions.len(),
+            faces.len(),
+            wall.ms(),
+            cpu.median * 1e3,
+            faces.len() as f64 / cpu.median / 1e6
+        );
+    }
+
+    for rounds in [1, 2] {
+        println!();
+        println!(
+            "loop_subdivide, {rounds} round{}",
+            if rounds == 1 { "" } else { "s" }
+        );
+        println!(
+            "{:<16} {:>10} {:>24} {:>8} {:>10} {:>8} {:>8}   phases, cpu ms: {}",
+            "mesh",
+            "out faces",
+            "wall ms",
+            "cpu ms",
+            "M faces/s",
+            "ns/face",
+            "B/face",
+            PHASES.join(" / ")
+        );
+        for input in &inputs {
+            let row = time_subdivide(&input.mesh, rounds, runs);
+            println!(
+                "{:<16} {:>10} {:>24} {:>8.2} {:>10.2} {:>8.1} {:>8.0}   {}",
+                input.name,
+                row.faces,
+                row.total.ms(),
+                row.cpu * 1e3,
+                row.faces as f64 / row.cpu / 1e6,
+                row.cpu * 1e9 / row.faces as f64,
+                row.peak_bytes as f64 / row.faces as f64,
+                row.phases
+                    .iter()
+                    .map(|t| format!("{:.1}", t * 1e3))
+                    .collect::<Vec<_>>()
+                    .join(" / ")
+            );
+        }
+    }
+
+    if options.grade {
+        println!();
+        grade_figures(runs)?;
+    }
+    if options.edit {
+        println!();
+        edit_to_verdict(runs)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Wall and CPU seconds of one build.
+fn time_build(positions: &[DVec3], faces: &[Vec<usize>]) -> (f64, f64) {
+    let (start, cpu) = (Instant::now(), cpu_now());
+    let mesh = Mesh::from_faces(positions, faces).expect("a generated mesh builds");
+    let t = (start.elapsed().as_secs_f64(), cpu_now() - cpu);
+    drop(mesh);
+    t
+}
+
+struct Row {
+    faces: usize,
+    total: Stats,
+    /// Median CPU seconds of the rounds.
+    cpu: f64,
+    /// Median time of each phase, summed over the rounds, in seconds.
+    phases: [f64; 5],
+    /// The most heap in use during the rounds, above what was in use before
+    /// the input was copied: the mesh and every temporary.
+    peak_bytes: usize,
+}
+
+fn time_subdivide(input: &Mesh, rounds: usize, runs: usize) -> Row {
+    let mut totals = Vec::new();
+    let mut cpus = Vec::new();
+    let mut faces = 0;
+    let mut peak_bytes = 0;
+    for _ in 0..runs {
+        let before = in_use();
+        let mut mesh = input.clone();
+        reset_peak();
+        let (start, cpu) = (Instant::now(), cpu_now());
+        for _ in 0..rounds {
+            solution::loop_subdivide(&mut mesh);
+        }
+        cpus.push(cpu_now() - cpu);
+        totals.push(start.elapsed().as_secs_f64());
+        peak_bytes = peak_bytes.max(peak() - before);
+        faces = mesh.num_real_faces();
+    }
+    let mut phase_runs: Vec<[f64; 5]> = Vec::new();
+    for _ in 0..runs {
+        let mut mesh = input.clone();
+        let mut times = [0.0; 5];
+        for _ in 0..rounds {
+            subdivide_in_phases(&mut mesh, &mut times);
+        }
+        phase_runs.push(times);
+    }
+    let mut phases = [0.0; 5];
+    for (i, p) in phases.iter_mut().enumerate() {
+        *p = Stats::of(phase_runs.iter().map(|t| t[i]).collect()).median;
+    }
+    Row {
+        faces,
+        total: Stats::of(totals),
+        cpu: Stats::of(cpus).median,
+        phases,
+        peak_bytes,
+    }
+}
+
+/// Full grades of the reference: every case in its locked-in child, as a
+/// student's `cargo run -p grader` grades (warm: the programs are built).
+fn grade_figures(runs: usize) -> Result<(), String> {
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let cases = reference::cases::builtin(Weights::Warren).len();
+    let mut times = Vec::new();
+    for _ in 0..runs {
+        let start = Instant::now();
+        let status = Command::new(&exe)
+            .args(["grade", "--bonus", "--format", "json"])
+            .stdout(Stdio::null())
+            .status()
+            .map_err(|e| e.to_string())?;
+        if !status.success() {
+            return Err("the reference did not pass its own grade".into());
+        }
+        times.push(start.elapsed().as_secs_f64());
+    }
+    println!(
+        "full warm grade of the reference ({cases} built-in cases, bonus included, child \
+         processes and all): {} s",
+        Stats::of(times).s()
+    );
+    Ok(())
+}
+
+/// A student's edit -> verdict: the student's file is touched (so cargo
+/// rebuilds it as after an edit) and `cargo run -p grader` runs to its
+/// verdict, in the dev profile students use. One untimed run first builds
+/// everything else.
+fn edit_to_verdict(runs: usize) -> Result<(), String> {
+    let root = reference::lab_root();
+    let student = root.join("crates/meshedit/src/lib.rs");
+    if !student.is_file() {
+        println!("edit -> verdict: skipped, {} not found", student.display());
+        return Ok(());
+    }
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let grade = |quiet_build: bool| -> Result<f64, String> {
+        touch(&student)?;
+        let start = Instant::now();
+        let mut command = Command::new(&cargo);
+        command
+            .current_dir(&root)
+            .args(["run", "--quiet", "-p", "grader"])
+            .stdout(Stdio::null());
+        if quiet_build {
+            command.stderr(Stdio::null());
+        }
+        // The verdict on the stubs is "fail"; only the time matters here.
+        command
+            .status()
+            .map_err(|e| format!("cannot run cargo: {e}"))?;
+        Ok(start.elapsed().as_secs_f64())
+    };
+    eprintln!("edit -> verdict: building the student's debug programs once (untimed)...");
+    grade(false)?;
+    let times = (0..runs)
+        .map(|_| grade(true))
+        .collect::<Result<Vec<_>, _>>()?;
+    println!(
+        "edit -> verdict (touch crates/meshedit/src/lib.rs, `cargo run -p grader`, dev \
+         profile: rebuild, link, grade the crate as it stands): {} s",
+        Stats::of(times).s()
+    );
+    Ok(())
+}
+
+/// Sets a file's modification time to now, as saving it in an editor does.
+fn touch(path: &Path) -> Result<(), String> {
+    let file = std::fs::File::options()
+        .append(true)
+        .open(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    file.set_modified(std::time::SystemTime::now())
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
