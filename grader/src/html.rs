@@ -543,21 +543,6 @@ struct Comparison {
     extra: Vec<[usize; 2]>,
 }
 
-fn adjacency(n: usize, edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
-    let mut adj = vec![Vec::new(); n];
-    for &[a, b] in edges {
-        if a < n && b < n {
-            adj[a].push(b);
-            adj[b].push(a);
-        }
-    }
-    for list in &mut adj {
-        list.sort_unstable();
-        list.dedup();
-    }
-    adj
-}
-
 /// Leftovers paired only when there are few of them, by distance.
 const PAIR_BY_DISTANCE: usize = 300;
 
@@ -582,8 +567,8 @@ fn compare(f: &Fixture, yours: &Shape, expected: &Shape) -> Comparison {
     // Pair leftovers: each takes the free expected vertex that shares the
     // most already-paired neighbours with it, nearest first; twice, so that
     // pairs found in the first round help the second.
-    let mine_adj = adjacency(yours.len(), &yours.edges);
-    let theirs_adj = adjacency(expected.len(), &expected.edges);
+    let mine_adj = crate::matching::adjacency(yours.len(), &yours.edges);
+    let theirs_adj = crate::matching::adjacency(expected.len(), &expected.edges);
     let mut displaced = vec![None; yours.len()];
     for round in 0..3 {
         let left: Vec<usize> = (0..yours.len())

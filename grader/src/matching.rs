@@ -99,13 +99,19 @@ pub fn match_vertices(student: &[P], expected: &[P], tolerance: f64) -> VertexMa
     }
 }
 
-fn adjacency(n: usize, edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
+/// Each vertex's neighbours, sorted and without repeats; edges naming a
+/// vertex past `n` are left out (a student's result may hold any ids).
+pub fn adjacency(n: usize, edges: &[[usize; 2]]) -> Vec<Vec<usize>> {
     let mut adj = vec![Vec::new(); n];
     for &[a, b] in edges {
         if a < n && b < n {
             adj[a].push(b);
             adj[b].push(a);
         }
+    }
+    for list in &mut adj {
+        list.sort_unstable();
+        list.dedup();
     }
     adj
 }

@@ -16,6 +16,15 @@ use crate::solution;
 /// Where the attacks that "win" leave their mark, for the tests to look.
 pub const MARK_DIR: &str = "/tmp/meshlab-attack";
 
+/// A system call's return value as a result: negative is the last error.
+fn sys_result(r: libc::c_long) -> std::io::Result<()> {
+    if r < 0 {
+        Err(std::io::Error::last_os_error())
+    } else {
+        Ok(())
+    }
+}
+
 fn report(what: &str, result: std::io::Result<()>) {
     match result {
         Ok(()) => println!("attack: {what}: done"),
@@ -432,13 +441,7 @@ pub fn inherited_fd(mesh: &mut Mesh) {
 /// or as root (the child is then `nobody`): elsewhere it kills the grader
 /// and its job, as it is meant to show.
 pub fn reach_parent(mesh: &mut Mesh) {
-    let ok = |r: libc::c_long| {
-        if r < 0 {
-            Err(std::io::Error::last_os_error())
-        } else {
-            Ok(())
-        }
-    };
+    let ok = sys_result;
     // SAFETY: plain system calls; the buffer read into is our own.
     unsafe {
         let ppid = libc::getppid();
@@ -495,13 +498,7 @@ pub fn reach_parent(mesh: &mut Mesh) {
 /// same call sets `RLIMIT_CPU` or `RLIMIT_NOFILE` just as well, of any
 /// process of the same user). Then makes the no-flip mistake.
 pub fn renice_parent(mesh: &mut Mesh) {
-    let ok = |r: libc::c_int| {
-        if r < 0 {
-            Err(std::io::Error::last_os_error())
-        } else {
-            Ok(())
-        }
-    };
+    let ok = |r: libc::c_int| sys_result(r.into());
     // SAFETY: plain system calls on structs we own.
     unsafe {
         let ppid = libc::getppid();
