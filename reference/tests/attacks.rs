@@ -10,6 +10,9 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+mod common;
+use common::*;
 use std::time::{Duration, Instant};
 
 use reference::hostile;
@@ -100,11 +103,6 @@ fn landlock_abi() -> i64 {
         )
     };
     abi.max(0)
-}
-
-fn is_root() -> bool {
-    // SAFETY: geteuid only reads.
-    unsafe { libc::geteuid() == 0 }
 }
 
 /// Processes still running an implementation's child (`serve-case NAME`),

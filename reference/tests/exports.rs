@@ -9,6 +9,9 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+mod common;
+use common::*;
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
@@ -26,32 +29,6 @@ fn root() -> PathBuf {
 
 fn target() -> PathBuf {
     root().join("target/ta-tests")
-}
-
-/// A fresh, empty temporary folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("reference-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-struct Ran {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn reference(args: &[&str]) -> Ran {
-    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
-        .args(args)
-        .output()
-        .expect("the reference binary runs");
-    Ran {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
 }
 
 fn solution() -> String {
@@ -94,11 +71,6 @@ fn a_hidden_case() -> String {
         .next()
         .expect("a hidden case");
     first.file_name().unwrap().to_string_lossy().into_owned()
-}
-
-fn is_root() -> bool {
-    // SAFETY: a plain system call without arguments.
-    unsafe { libc::geteuid() == 0 }
 }
 
 fn write(path: &Path, text: &str) {
@@ -144,7 +116,7 @@ fn counted(kind: &str) -> usize {
 fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
     let _turn = take_turn();
     let dir = scratch("handout").join("lab");
-    let r = reference(&["handout", dir.to_str().unwrap(), "--autograding"]);
+    let r = run(&["handout", dir.to_str().unwrap(), "--autograding"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     let all = reference::handout::list_files(&dir).unwrap();
     for gone in [
@@ -236,7 +208,7 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
     );
 
     // Exporting into a folder that has files is refused, naming --update.
-    let again = reference(&["handout", dir.to_str().unwrap()]);
+    let again = run(&["handout", dir.to_str().unwrap()]);
     assert_eq!(again.code, 2);
     assert!(again.stderr.contains("exists and is not empty"));
     assert!(again.stderr.contains("--update"));
@@ -361,7 +333,7 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
     std::fs::write(dir.join("fixtures/lab/cube-split.json"), "{}").unwrap();
     std::fs::write(dir.join("fixtures/lab/old-case.json"), "{}").unwrap();
     std::fs::remove_file(dir.join("docs/architecture.md")).unwrap();
-    let r = reference(&["handout", dir.to_str().unwrap(), "--update"]);
+    let r = run(&["handout", dir.to_str().unwrap(), "--update"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     assert!(
         r.stdout.contains("updated fixtures/lab/cube-split.json"),
@@ -387,7 +359,7 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
         std::fs::read(dir.join("fixtures/lab/cube-split.json")).unwrap(),
         std::fs::read(root().join("fixtures/lab/cube-split.json")).unwrap()
     );
-    let r = reference(&[
+    let r = run(&[
         "handout",
         root().join("crates").to_str().unwrap(),
         "--update",
@@ -464,7 +436,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let (ag, build_target) = gradescope_places();
     let _ = std::fs::remove_dir_all(&ag);
     let bundle = ag.join("source");
-    let r = reference(&["gradescope", bundle.to_str().unwrap()]);
+    let r = run(&["gradescope", bundle.to_str().unwrap()]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     let lab = bundle.join("lab");
     assert!(lab.join("fixtures/hidden").is_dir(), "hidden cases graded");
