@@ -13,16 +13,9 @@ use std::process::Command;
 
 mod common;
 use common::*;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use reference::hostile;
-
-struct Graded {
-    code: i32,
-    stdout: String,
-    stderr: String,
-    took: Duration,
-}
 
 impl Graded {
     fn context(&self) -> String {
@@ -48,34 +41,6 @@ impl Graded {
             .lines()
             .any(|l| l.contains("[warn] ") && l.contains(text))
     }
-}
-
-fn grade_with(cmd: &mut Command, implementation: &str, args: &[&str]) -> Graded {
-    use std::os::unix::process::CommandExt;
-    let start = Instant::now();
-    // Its own process group: an attack that reached the grader's group
-    // would otherwise reach this test too.
-    let out = cmd
-        .process_group(0)
-        .args(["grade", "--implementation", implementation, "--no-color"])
-        .args(args)
-        .env("RUST_BACKTRACE", "1")
-        .output()
-        .expect("the reference binary runs");
-    Graded {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        took: start.elapsed(),
-    }
-}
-
-fn grade(implementation: &str, args: &[&str]) -> Graded {
-    grade_with(
-        &mut Command::new(env!("CARGO_BIN_EXE_reference")),
-        implementation,
-        args,
-    )
 }
 
 /// Grades as an ordinary user, as a student or a TA on their own machine

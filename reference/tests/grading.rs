@@ -5,26 +5,8 @@
 
 use std::process::Command;
 
-struct Graded {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn grade(implementation: &str, args: &[&str]) -> Graded {
-    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
-        .args(["grade", "--implementation", implementation, "--no-color"])
-        .args(args)
-        // Even with backtraces asked for, none may reach the student.
-        .env("RUST_BACKTRACE", "1")
-        .output()
-        .expect("the reference binary runs");
-    Graded {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
+mod common;
+use common::grade;
 
 /// Drops the `file.rs:LINE ` prefix of log lines and the line and column
 /// of panic locations, which move whenever code is edited, and the

@@ -86,21 +86,25 @@ fn manifold() -> impl Strategy<Value = (Vec<DVec3>, Vec<Vec<usize>>, i64)> {
 /// A few polygons over a few vertices, renumbered so that every vertex is
 /// used: often a valid mesh (a fan, a strip, a closed pair), often not.
 fn polygon_soup() -> impl Strategy<Value = (usize, Vec<Vec<usize>>)> {
-    prop::collection::vec(prop::collection::vec(0usize..6, 3..5), 1..6).prop_map(|faces| {
-        let mut number = std::collections::HashMap::new();
-        let faces: Vec<Vec<usize>> = faces
-            .into_iter()
-            .map(|f| {
-                f.into_iter()
-                    .map(|v| {
-                        let next = number.len();
-                        *number.entry(v).or_insert(next)
-                    })
-                    .collect()
-            })
-            .collect();
-        (number.len(), faces)
-    })
+    prop::collection::vec(prop::collection::vec(0usize..6, 3..5), 1..6).prop_map(renumber)
+}
+
+/// The faces with vertices renumbered in order of first use, so that every
+/// vertex is used; and how many there are.
+fn renumber(faces: impl IntoIterator<Item = Vec<usize>>) -> (usize, Vec<Vec<usize>>) {
+    let mut number = std::collections::HashMap::new();
+    let faces: Vec<Vec<usize>> = faces
+        .into_iter()
+        .map(|f| {
+            f.into_iter()
+                .map(|v| {
+                    let next = number.len();
+                    *number.entry(v).or_insert(next)
+                })
+                .collect()
+        })
+        .collect();
+    (number.len(), faces)
 }
 
 /// A manifold mesh with random faces removed and the vertices renumbered
@@ -114,23 +118,13 @@ fn punctured() -> impl Strategy<Value = (usize, Vec<Vec<usize>>)> {
             prop::collection::vec(prop::bool::weighted(0.12), nf),
         )
             .prop_map(|(faces, drop)| {
-                let kept = faces
-                    .into_iter()
-                    .zip(drop)
-                    .filter(|(_, d)| !d)
-                    .map(|(f, _)| f);
-                let mut number = std::collections::HashMap::new();
-                let faces: Vec<Vec<usize>> = kept
-                    .map(|f| {
-                        f.into_iter()
-                            .map(|v| {
-                                let next = number.len();
-                                *number.entry(v).or_insert(next)
-                            })
-                            .collect()
-                    })
-                    .collect();
-                (number.len(), faces)
+                renumber(
+                    faces
+                        .into_iter()
+                        .zip(drop)
+                        .filter(|(_, d)| !d)
+                        .map(|(f, _)| f),
+                )
             })
     })
 }

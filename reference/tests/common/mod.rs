@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::{Duration, Instant};
 
 /// How a run of the reference binary ended.
 pub struct Ran {
@@ -44,4 +45,43 @@ pub fn scratch(name: &str) -> PathBuf {
 pub fn is_root() -> bool {
     // SAFETY: geteuid only reads.
     unsafe { libc::geteuid() == 0 }
+}
+
+/// How `reference grade` ended.
+pub struct Graded {
+    pub code: i32,
+    pub stdout: String,
+    pub stderr: String,
+    pub took: Duration,
+}
+
+/// Runs `cmd` (the reference binary, maybe set up further) as `grade
+/// --implementation NAME --no-color ARGS`, in its own process group: an
+/// attack that reached the grader's group would otherwise reach the test
+/// too. Backtraces are asked for: none may reach the student.
+pub fn grade_with(cmd: &mut Command, implementation: &str, args: &[&str]) -> Graded {
+    use std::os::unix::process::CommandExt;
+    let start = Instant::now();
+    let out = cmd
+        .process_group(0)
+        .args(["grade", "--implementation", implementation, "--no-color"])
+        .args(args)
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .expect("the reference binary runs");
+    Graded {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        took: start.elapsed(),
+    }
+}
+
+/// `reference grade --implementation NAME ARGS`.
+pub fn grade(implementation: &str, args: &[&str]) -> Graded {
+    grade_with(
+        &mut Command::new(env!("CARGO_BIN_EXE_reference")),
+        implementation,
+        args,
+    )
 }
