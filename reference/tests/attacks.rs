@@ -187,7 +187,7 @@ fn the_grader_cannot_be_signalled_traced_or_read() {
         ));
     }
     if runs.is_empty() {
-        eprintln!("skipped: no Landlock signal scoping and not root");
+        common::skip("no Landlock signal scoping and not root");
     }
     for g in runs {
         assert_no_flip_verdict(&g);
@@ -280,7 +280,7 @@ fn graded_sockets() -> (Graded, [bool; 4]) {
 #[test]
 fn tcp_and_abstract_sockets_are_closed() {
     if landlock_abi() < 6 {
-        eprintln!("skipped: TCP needs Landlock ABI 4, abstract sockets ABI 6");
+        common::skip("TCP needs Landlock ABI 4, abstract sockets ABI 6");
         return;
     }
     let (g, [_, tcp, _, abstract_unix]) = graded_sockets();
@@ -566,7 +566,7 @@ fn leak() -> ! {
 fn a_root_grader_never_runs_student_code_as_root() {
     use std::os::unix::fs::PermissionsExt;
     if !is_root() {
-        eprintln!("skipped: only a root grader can keep root for its child");
+        common::skip("only a root grader can keep root for its child");
         return;
     }
     // The lab in a folder only root may enter (as /root/lab would be).

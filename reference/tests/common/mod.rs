@@ -41,6 +41,25 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// Whether every test must run its check here: under CI (`CI=true`) and
+/// in the full tier (`cargo xtask test` sets `MESHLAB_FULL_TESTS=1`).
+pub fn must_run_everything() -> bool {
+    let set =
+        |name: &str| std::env::var(name).is_ok_and(|v| !v.is_empty() && v != "0" && v != "false");
+    set("CI") || set("MESHLAB_FULL_TESTS")
+}
+
+/// A check that cannot run on this machine: outside CI it says so loudly
+/// and the caller returns (the test passes having checked nothing); under
+/// CI or the full tier a skip is a failure.
+pub fn skip(reason: &str) {
+    assert!(
+        !must_run_everything(),
+        "this check cannot run here, and under CI or `cargo xtask test` a skip is a failure: {reason}"
+    );
+    eprintln!("SKIPPED (not under CI): {reason}");
+}
+
 /// Whether the tests run as root.
 pub fn is_root() -> bool {
     // SAFETY: geteuid only reads.
