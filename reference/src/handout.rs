@@ -16,10 +16,14 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Paths (relative to the root, `/`-separated) never copied.
-pub const EXCLUDED: [&str; 8] = [
+pub const EXCLUDED: [&str; 10] = [
     ".git",
     "target",
     "reference",
+    // The developers' full test run (`cargo xtask test`) and its alias: it
+    // runs the TA-only tests; students run `cargo test --workspace`.
+    "xtask",
+    ".cargo",
     "fixtures/hidden",
     "docs/ta-guide.md",
     // About the reference's speed: it names the hidden crate throughout.
@@ -65,7 +69,10 @@ fn io<T>(result: std::io::Result<T>, path: &Path) -> Result<T, String> {
     result.map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// The members of the workspace manifest `text`, without `reference`.
+/// Workspace members that stay with the TAs.
+const TA_MEMBERS: [&str; 2] = ["reference", "xtask"];
+
+/// The members of the workspace manifest `text`, without the TAs' ones.
 fn student_members(text: &str) -> Result<Vec<String>, String> {
     let line = text
         .lines()
@@ -79,7 +86,7 @@ fn student_members(text: &str) -> Result<Vec<String>, String> {
     Ok(inside
         .split(',')
         .map(|m| m.trim().trim_matches('"').to_string())
-        .filter(|m| !m.is_empty() && m != "reference")
+        .filter(|m| !m.is_empty() && !TA_MEMBERS.contains(&m.as_str()))
         .collect())
 }
 

@@ -452,8 +452,20 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert!(!script.contains('@'), "every setting filled in");
     std::fs::copy(bundle.join("run_autograder"), ag.join("run_autograder")).unwrap();
 
-    // The part of setup.sh that needs no network: as root, it moves the
-    // hidden cases into a folder only root may enter and builds as nobody.
+    // setup.sh's download, as it runs it: every platform's crates (vendoring
+    // needs the Windows-only ones too, which no build here ever fetched).
+    let fetched = Command::new(env!("CARGO"))
+        .args(["fetch", "--locked"])
+        .current_dir(&lab)
+        .output()
+        .unwrap();
+    assert!(
+        fetched.status.success(),
+        "setup.sh's `cargo fetch --locked` fails in the bundle's lab: {}",
+        String::from_utf8_lossy(&fetched.stderr)
+    );
+    // The rest of setup.sh, past installing the toolchain: as root, it moves
+    // the hidden cases into a folder only root may enter and builds as nobody.
     let out = Command::new(bundle.join("run_autograder"))
         .arg("--setup")
         .env("AUTOGRADER", &ag)
