@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::child::{Counts, MeshResult, Outcome, Returned};
+use crate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
 use crate::fixture::{Expected, Fixture, Group, Operation, Returns, Stage};
 use crate::matching::{self, VertexMatch};
 use crate::runner::{ChildReport, Run};
@@ -688,8 +688,62 @@ fn check_returned_shape(
                 );
                 say!(log, Detail, "mesh[v{id}].halfedge must lead to vertex {a} or {b}, the ends of the edge that was split");
             }
+            if let Some(ids) = &mesh.split {
+                check_split_ids(ids, *id, [a, b], &to_expected, log);
+            }
         }
         _ => {}
+    }
+}
+
+/// The contract's rules on ids after a split: the new vertex keeps its
+/// defaults, the edge's id names one half of the old edge, the old faces
+/// are triangles around the new vertex.
+fn check_split_ids(
+    ids: &SplitIds,
+    m: u32,
+    [a, b]: [usize; 2],
+    to_expected: &dyn Fn(usize) -> Option<usize>,
+    log: &mut Log,
+) {
+    if ids.is_new || ids.new_pos != [0.0; 3] {
+        say!(
+            log,
+            Warn,
+            "split_edge set is_new or new_pos on the new vertex: a split leaves them false and zero (loop_subdivide sets them after the call)"
+        );
+        say!(
+            log,
+            Detail,
+            "mesh[v{m}].is_new is {}, mesh[v{m}].new_pos is {}",
+            ids.is_new,
+            fmt_p(ids.new_pos)
+        );
+    }
+    let [x, y] = ids.edge_ends;
+    let other = if x == m as usize { y } else { x };
+    let half = (x == m as usize || y == m as usize)
+        && matches!(to_expected(other), Some(o) if o == a || o == b);
+    if !half {
+        say!(
+            log,
+            Warn,
+            "after split_edge, edge e{} is not half of the edge that was split: it must join the new vertex to one of its ends",
+            ids.edge
+        );
+        say!(
+            log,
+            Detail,
+            "e{} joins v{x} and v{y}; the new vertex is v{m}",
+            ids.edge
+        );
+    }
+    if let Some(f) = ids.faces_away.first() {
+        say!(
+            log,
+            Warn,
+            "after split_edge, face f{f} is not one of the triangles around the new vertex: each old face beside the edge must become one of them"
+        );
     }
 }
 

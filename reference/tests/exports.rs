@@ -78,38 +78,12 @@ fn write(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap();
 }
 
-fn json(path: &Path) -> serde_json::Value {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}\n{text}", path.display()))
-}
-
 fn tests_of(results: &serde_json::Value) -> Vec<serde_json::Value> {
     results["tests"].as_array().cloned().unwrap_or_default()
 }
 
 fn sum(tests: &[serde_json::Value], key: &str) -> f64 {
     tests.iter().map(|t| t[key].as_f64().unwrap_or(0.0)).sum()
-}
-
-/// The cases (`*.json`, not `SHA256SUMS`) of one group of the lab's fixtures.
-fn case_files(group: &str) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("fixtures").join(group))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    files
-}
-
-/// Counted (lab + hidden) cases per fixture kind in the lab.
-fn counted(kind: &str) -> usize {
-    ["lab", "hidden"]
-        .iter()
-        .flat_map(|g| case_files(g))
-        .map(|p| json(&p))
-        .filter(|f| f["operation"]["kind"] == kind)
-        .count()
 }
 
 #[test]
