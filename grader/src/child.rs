@@ -69,7 +69,7 @@ pub struct MeshResult {
     pub returned_vertex_leads_to: Option<usize>,
     /// After a split that returned a new vertex, what the contract pins
     /// down besides the shape: see [`SplitIds`].
-    pub split: Option<Box<SplitIds>>,
+    pub split: Option<SplitIds>,
 }
 
 /// The ids a split must keep sensible, read in the labelling that was sent.
@@ -99,7 +99,7 @@ pub enum Outcome {
         after: Counts,
         /// The first thing wrong with the result's links or positions.
         invalid: Option<String>,
-        mesh: Option<MeshResult>,
+        mesh: Option<Box<MeshResult>>,
         /// Every record, positions to the bit, is as it was sent.
         #[serde(default)]
         unchanged: bool,
@@ -311,7 +311,7 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
         before: Counts::of(input),
         after: Counts::of(&mesh),
         invalid,
-        mesh: result,
+        mesh: result.map(Box::new),
         unchanged,
     }
 }
@@ -350,7 +350,7 @@ fn read_result(op: Op, input: &Mesh, mesh: &Mesh, returned: &Returned) -> MeshRe
     };
     if let (Op::Split(e), Returned::Vertex { id, .. }) = (op, returned) {
         if (*id as usize) < mesh.num_vertices() {
-            result.split = split_ids(input, mesh, e, VertexId(*id)).map(Box::new);
+            result.split = split_ids(input, mesh, e, VertexId(*id));
         }
     }
     match *returned {

@@ -256,7 +256,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             (*before, *after),
             *unchanged,
             invalid.as_deref(),
-            mesh.as_ref(),
+            mesh.as_deref(),
             log,
         ),
     }

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use grader::child::{Counts, MeshResult, Outcome, Returned};
+use grader::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
 use grader::fixture::{self, Fixture, Returns};
 use grader::grade::{judge, CaseReport, Level};
 use grader::runner::{ChildReport, Run};
@@ -19,28 +19,70 @@ fn load(rel: &str) -> Fixture {
     Fixture::from_json(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
 }
 
-fn input_boundary_loops(f: &Fixture) -> usize {
-    if f.group == fixture::Group::Bonus {
-        1
-    } else {
-        0
-    }
-}
-
-fn input_counts(f: &Fixture) -> Counts {
-    let faces = f.input.faces.len() + input_boundary_loops(f);
-    let mut edges = std::collections::BTreeSet::new();
+/// The input's edges as sorted pairs, each with the number of faces it
+/// borders (1 on a hole's rim).
+fn input_edges(f: &Fixture) -> std::collections::BTreeMap<(usize, usize), usize> {
+    let mut edges = std::collections::BTreeMap::new();
     for face in &f.input.faces {
         for i in 0..face.len() {
             let (a, b) = (face[i], face[(i + 1) % face.len()]);
-            edges.insert((a.min(b), a.max(b)));
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
         }
     }
+    edges
+}
+
+/// How many holes the input has: connected runs of rim edges (the lab's
+/// meshes have no two holes touching at a vertex).
+fn input_holes(f: &Fixture) -> usize {
+    let mut parent: Vec<usize> = (0..f.input.positions.len()).collect();
+    fn find(parent: &mut [usize], mut v: usize) -> usize {
+        while parent[v] != v {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        v
+    }
+    let rim: Vec<(usize, usize)> = input_edges(f)
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|(e, _)| e)
+        .collect();
+    let mut on_rim = std::collections::BTreeSet::new();
+    for &(a, b) in &rim {
+        on_rim.extend([a, b]);
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        parent[ra] = rb;
+    }
+    let roots: std::collections::BTreeSet<usize> =
+        on_rim.into_iter().map(|v| find(&mut parent, v)).collect();
+    roots.len()
+}
+
+/// Counts of the mesh the library builds from the input: a face per
+/// polygon and per hole, two halfedges per edge.
+fn input_counts(f: &Fixture) -> Counts {
+    let edges = input_edges(f).len();
     Counts {
         vertices: f.input.positions.len(),
-        edges: edges.len(),
-        faces,
-        halfedges: 2 * edges.len(),
+        edges,
+        faces: f.input.faces.len() + input_holes(f),
+        halfedges: 2 * edges,
+    }
+}
+
+/// Counts of the expected result, from its own vertices and edges; faces
+/// (holes included) from the Euler characteristic V - E + F, which a split
+/// keeps: an argument apart from the grader's count of divided triangles.
+fn expected_counts(f: &Fixture) -> Counts {
+    let before = input_counts(f);
+    let euler = before.vertices as i64 - before.edges as i64 + before.faces as i64;
+    let (v, e) = (f.expected.positions.len(), f.expected.edges.len());
+    Counts {
+        vertices: v,
+        edges: e,
+        faces: (euler - v as i64 + e as i64) as usize,
+        halfedges: 2 * e,
     }
 }
 
@@ -52,6 +94,7 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         edges: e.edges.clone(),
         returned_edge_ends: None,
         returned_vertex_leads_to: None,
+        split: None,
     };
     let returned = match (&e.returns, f.operation) {
         (None, _) => Returned::Unit,
@@ -62,6 +105,14 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         }
         (Some(Returns::Vertex { position }), fixture::Operation::Split { edge }) => {
             mesh.returned_vertex_leads_to = Some(edge[1]);
+            let m = e.positions.len() - 1;
+            mesh.split = Some(SplitIds {
+                is_new: false,
+                new_pos: [0.0; 3],
+                edge: 0,
+                edge_ends: [m, edge[0]],
+                faces_away: Vec::new(),
+            });
             Returned::Vertex {
                 id: e.positions.len() as u32 - 1,
                 position: Some(*position),
@@ -69,21 +120,10 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         }
         _ => unreachable!(),
     };
-    let before = input_counts(f);
     let after = match f.operation {
-        fixture::Operation::Flip { .. } => before,
-        fixture::Operation::Split { .. } if e.returns == Some(Returns::Refused) => before,
-        fixture::Operation::Split { .. } => {
-            let divided = e.edges.len() - before.edges - 1;
-            Counts {
-                vertices: before.vertices + 1,
-                edges: before.edges + 1 + divided,
-                faces: before.faces + divided,
-                halfedges: before.halfedges + 2 + 2 * divided,
-            }
-        }
         // Subdivision is judged on positions and edges, not counts.
-        fixture::Operation::Subdivide { .. } => before,
+        fixture::Operation::Subdivide { .. } => input_counts(f),
+        _ => expected_counts(f),
     };
     (returned, after, mesh)
 }
@@ -100,7 +140,7 @@ fn finished(
             before: input_counts(f),
             after,
             invalid: invalid.map(str::to_string),
-            mesh,
+            mesh: mesh.map(Box::new),
             // A refusal that returns None is taken to have left the mesh alone.
             unchanged: returned == Returned::Nothing,
             returned,
@@ -439,7 +479,7 @@ fn flip_return_values_and_counts() {
 
 #[test]
 fn refusing_boundary_edges() {
-    let f = load("bonus/grid-flip-boundary.json");
+    let f = load("lab/grid-flip-boundary.json");
     let (_, after, mesh) = perfect(&f);
     let r = finished(
         &f,
@@ -505,14 +545,64 @@ fn split_checks() {
     let across = (0..f.input.positions.len())
         .find(|&c| c != a && c != b)
         .unwrap();
-    let mut astray = mesh;
+    let mut astray = mesh.clone();
     astray.returned_vertex_leads_to = Some(across);
-    let r = finished(&f, returned, after, None, Some(astray));
+    let r = finished(&f, returned.clone(), after, None, Some(astray));
     assert_fails_with(
         &r,
         "the new vertex's halfedge does not run along the split edge",
     );
     assert_detail(&r, &format!("must lead to vertex {a} or {b}"));
+
+    // The ids the contract pins down.
+    let with_ids = |change: &dyn Fn(&mut SplitIds)| {
+        let mut m = mesh.clone();
+        change(m.split.as_mut().unwrap());
+        finished(&f, returned.clone(), after, None, Some(m))
+    };
+    let r = with_ids(&|s| s.is_new = true);
+    assert_fails_with(&r, "split_edge set is_new or new_pos on the new vertex: a split leaves them false and zero (loop_subdivide sets them after the call)");
+    assert_detail(&r, &format!("mesh[v{id}].is_new is true"));
+    let r = with_ids(&|s| s.new_pos = [0.0, 0.5, 0.0]);
+    assert_fails_with(&r, "split_edge set is_new or new_pos on the new vertex: a split leaves them false and zero (loop_subdivide sets them after the call)");
+    let r = with_ids(&|s| s.edge_ends = [id as usize, across]);
+    assert_fails_with(&r, "after split_edge, edge e0 is not half of the edge that was split: it must join the new vertex to one of its ends");
+    let r = with_ids(&|s| s.edge_ends = [a, b]);
+    assert_fails_with(&r, "after split_edge, edge e0 is not half of the edge that was split: it must join the new vertex to one of its ends");
+    let r = with_ids(&|s| s.faces_away = vec![3]);
+    assert_fails_with(&r, "after split_edge, face f3 is not one of the triangles around the new vertex: each old face beside the edge must become one of them");
+    let r = with_ids(&|s| s.edge_ends = [b, id as usize]);
+    assert!(
+        r.passed,
+        "e as the other half passes too: {:?}",
+        lines(&r, Level::Warn)
+    );
+}
+
+/// The counts the tests feed the judge, against counts made by hand from
+/// the meshes' pictures.
+#[test]
+fn the_tests_counts_are_the_hand_counts() {
+    let c = |vertices, edges, faces, halfedges| Counts {
+        vertices,
+        edges,
+        faces,
+        halfedges,
+    };
+    // The cube: 8 corners, 12 sides + 6 diagonals, 12 triangles.
+    let cube = load("lab/cube-split.json");
+    assert_eq!(input_counts(&cube), c(8, 18, 12, 36));
+    // A split adds the midpoint, the other half and two edges across, two faces.
+    assert_eq!(expected_counts(&cube), c(9, 21, 14, 42));
+    // The 3x3 grid: 16 vertices, 24 sides + 9 diagonals, 18 triangles and a hole.
+    let grid = load("bonus/grid-split-boundary.json");
+    assert_eq!(input_counts(&grid), c(16, 33, 19, 66));
+    // Beside a hole only one triangle is divided: one edge across, one face.
+    assert_eq!(expected_counts(&grid), c(17, 35, 20, 70));
+    // The octahedron without a face: 7 triangles and a triangular hole.
+    let open = load("lab/open-octahedron-flip.json");
+    assert_eq!(input_counts(&open), c(6, 12, 8, 24));
+    assert_eq!(expected_counts(&open), c(6, 12, 8, 24));
 }
 
 #[test]

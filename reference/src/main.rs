@@ -82,7 +82,8 @@ enum Command {
         #[arg(long, value_enum, default_value = "hidden")]
         group: Group,
         /// Subdivide this many rounds (the default operation, 1 round);
-        /// 1 to 10, and at most 50000 faces in the result.
+        /// 1 to 10, and at most 50000 faces in the result. The mesh must be
+        /// all triangles.
         #[arg(long, value_name = "ROUNDS", conflicts_with_all = ["flip", "split"])]
         subdivide: Option<usize>,
         /// Flip the edge between vertices A and B.
@@ -498,6 +499,28 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 .and_then(|s| s.to_str())
                 .unwrap_or("mesh")
                 .to_string();
+            // One size rule for every case: the input too stays within what
+            // a result may hold (a 240k-face flip made a 32 MB fixture).
+            if mesh.num_real_faces() > MAX_FIXTURE_FACES {
+                return Err(format!(
+                    "{}: {} faces: a case's meshes have at most {MAX_FIXTURE_FACES} faces \
+                     (fixtures stay small and quick to grade); take a coarser mesh",
+                    obj.display(),
+                    mesh.num_real_faces()
+                ));
+            }
+            if flip.is_none() && split.is_none() {
+                if let Some(f) = mesh.first_non_triangle() {
+                    return Err(format!(
+                        "{}: face {} has {} sides: loop_subdivide takes triangle meshes only, \
+                         so this makes no subdivision case (the refusal on a mesh of quads is \
+                         built in: quad-box-subdivide-1)",
+                        obj.display(),
+                        f.index() + 1,
+                        mesh.face_degree(f)
+                    ));
+                }
+            }
             let (operation, suffix) = match (flip, split, subdivide) {
                 (Some(ab), _, _) => {
                     let edge = obj_edge(&mesh, ab[0], ab[1])?;
