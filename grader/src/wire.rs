@@ -436,20 +436,21 @@ mod tests {
         Mesh::from_records(vs, es, fs, hs)
     }
 
+    /// A change made to a mesh's four arenas.
+    type Change = dyn Fn(&mut [Vertex], &mut [Edge], &mut [Face], &mut [Halfedge]);
+
     #[test]
     fn the_comparison_sees_every_field() {
         let m = unusual();
         let (vs, es, fs, hs) = m.records();
         assert!(fs.iter().any(|f| f.is_boundary), "the grid has a hole");
         assert!(vs.iter().any(|v| v.is_new) && es.iter().any(|e| e.is_new));
-        let rebuilt =
-            |change: &dyn Fn(&mut [Vertex], &mut [Edge], &mut [Face], &mut [Halfedge])| {
-                let (mut v, mut e, mut f, mut h) =
-                    (vs.to_vec(), es.to_vec(), fs.to_vec(), hs.to_vec());
-                change(&mut v, &mut e, &mut f, &mut h);
-                Mesh::from_records(v, e, f, h)
-            };
-        let changes: [&dyn Fn(&mut [Vertex], &mut [Edge], &mut [Face], &mut [Halfedge]); 13] = [
+        let rebuilt = |change: &Change| {
+            let (mut v, mut e, mut f, mut h) = (vs.to_vec(), es.to_vec(), fs.to_vec(), hs.to_vec());
+            change(&mut v, &mut e, &mut f, &mut h);
+            Mesh::from_records(v, e, f, h)
+        };
+        let changes: [&Change; 13] = [
             &|v, _, _, _| v[1].pos.z += 1.0,
             &|v, _, _, _| v[1].new_pos.y += 1.0,
             &|v, _, _, _| v[1].is_new = !v[1].is_new,
