@@ -466,7 +466,7 @@ mod tests {
             &|_, _, _, h| h[1].edge = EdgeId(h[1].edge.0 ^ 1),
         ];
         for (i, change) in changes.iter().enumerate() {
-            assert!(!same(&m, &rebuilt(*change)), "change {i} unseen");
+            assert!(!same(&m, &rebuilt(change)), "change {i} unseen");
         }
         let face_change = rebuilt(&|_, _, _, h| h[1].face = FaceId(h[1].face.0 ^ 1));
         assert!(!same(&m, &face_change), "a halfedge's face unseen");
