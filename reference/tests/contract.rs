@@ -116,13 +116,6 @@ const RULES: &[Rule] = &[
     ),
 ];
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
 /// The rules of each function's doc comment, as (function, rule text):
 /// every bullet of its `Contract:` list, and a `Precondition:` paragraph.
 fn contract_rules(source: &str) -> Vec<(String, String)> {
