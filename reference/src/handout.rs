@@ -205,7 +205,47 @@ fn copy_tree(
 pub fn export(root: &Path, dest: &Path, autograding: bool) -> Result<Exported, String> {
     let mut out = copy_lab(root, dest, Purpose::Handout)?;
     out.files += write_classroom(root, dest, autograding)?;
+    let copies = solution_copies(dest)?;
+    if !copies.is_empty() {
+        let _ = std::fs::remove_dir_all(dest);
+        return Err(format!(
+            "the export would carry the model solution's code, so nothing was exported:\n  {}\n\
+             rewrite those lines (or move them where students never get them)",
+            copies.join("\n  ")
+        ));
+    }
     Ok(out)
+}
+
+/// The model solution, as the copy check reads it.
+const SOLUTION_SOURCE: &str = include_str!("solution.rs");
+
+/// A run of this many normalised tokens shared with the model solution
+/// makes a file a copy of it. Measured on the lab: legitimate code shares
+/// at most 46 (the halfedge tests' meshes linked by hand); the flip once
+/// relinked by hand in `crates/halfedge/tests/validate.rs` shared 328, and
+/// six `set_neighbors` lines alone are 96.
+pub const COPY_TOKENS: usize = 80;
+
+/// Every `.rs` file under `dir` that shares a run of [`COPY_TOKENS`] or
+/// more normalised tokens with the model solution (names, numbers and
+/// strings replaced, so a renamed copy is still found), as
+/// "FILE:LINE shares N tokens with reference/src/solution.rs:LINE".
+pub fn solution_copies(dir: &Path) -> Result<Vec<String>, String> {
+    let solution = crate::tokens::normalized(SOLUTION_SOURCE);
+    let mut found = Vec::new();
+    for rel in list_files(dir)?.iter().filter(|f| f.ends_with(".rs")) {
+        let path = dir.join(rel);
+        let text = io(std::fs::read_to_string(&path), &path)?;
+        let tokens = crate::tokens::normalized(&text);
+        if let Some(run) = crate::tokens::longest_shared(&tokens, &solution, COPY_TOKENS) {
+            found.push(format!(
+                "{rel}:{} shares {} tokens with reference/src/solution.rs:{}",
+                run.line, run.tokens, run.their_line
+            ));
+        }
+    }
+    Ok(found)
 }
 
 /// The Classroom files of an export; returns how many it wrote.

@@ -10,6 +10,8 @@
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`handout`]: exporting the student workspace.
 //! - [`class`]: grading a folder of submissions.
+//! - [`tokens`]: Rust source as normalised tokens, and the runs two
+//!   sources share (the handout's no-solution check).
 //!
 //! The command line (`cargo run -p reference -- --help`) is in `main.rs`.
 
@@ -19,6 +21,7 @@ pub mod handout;
 pub mod hostile;
 pub mod mutants;
 pub mod solution;
+pub mod tokens;
 
 use std::path::PathBuf;
 

@@ -253,3 +253,76 @@ fn a_flip_missing_a_refusal_fails_the_default_run() {
         );
     }
 }
+
+/// The flip relinking that `crates/halfedge/tests/validate.rs` once
+/// shipped to students, line for line the model solution's.
+const SHIPPED_FLIP: &str = r#"
+fn flip_by_hand(m: &mut Mesh, e: EdgeId) {
+    let h = m[e].halfedge;
+    let t = m[h].twin;
+    let (h1, t1) = (m[h].next, m[t].next);
+    let (h2, t2) = (m[h1].next, m[t1].next);
+    let (a, b) = (m[h].vertex, m[t].vertex);
+    let (c, d) = (m[h2].vertex, m[t2].vertex);
+    let (f0, f1) = (m[h].face, m[t].face);
+    m.set_neighbors(h, h2, t, d, e, f0);
+    m.set_neighbors(h2, t1, m[h2].twin, c, m[h2].edge, f0);
+    m.set_neighbors(t1, h, m[t1].twin, a, m[t1].edge, f0);
+    m.set_neighbors(t, t2, h, c, e, f1);
+    m.set_neighbors(t2, h1, m[t2].twin, d, m[t2].edge, f1);
+    m.set_neighbors(h1, t, m[h1].twin, b, m[h1].edge, f1);
+    m[a].halfedge = t1;
+    m[b].halfedge = h1;
+    m[f0].halfedge = h;
+    m[f1].halfedge = t;
+}
+"#;
+
+/// The export's copy check finds the model solution by content: the flip
+/// once shipped in a test file, and the solution's split renamed and
+/// reformatted, each planted in an otherwise clean folder.
+#[test]
+fn the_copy_check_finds_the_solution_under_other_names() {
+    let dir = common::scratch("copies");
+    let plant = |rel: &str, text: &str| {
+        let path = dir.join(rel);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    };
+    plant(
+        "crates/meshedit/src/lib.rs",
+        &std::fs::read_to_string(root().join("crates/meshedit/src/lib.rs")).unwrap(),
+    );
+    assert_eq!(
+        reference::handout::solution_copies(&dir).unwrap(),
+        Vec::<String>::new(),
+        "the stubs are clean"
+    );
+    plant("crates/halfedge/tests/validate.rs", SHIPPED_FLIP);
+    // The split, renamed throughout and laid out differently.
+    let solution = std::fs::read_to_string(root().join("reference/src/solution.rs")).unwrap();
+    let start = solution.find("pub(crate) fn relink_split").unwrap();
+    let end = start + solution[start..].find("\n}\n").unwrap() + 3;
+    let mut renamed = solution[start..end].to_string();
+    for (from, to) in [
+        ("mesh", "g"),
+        ("hb", "p"),
+        ("tb", "q"),
+        ("f0", "left"),
+        ("set_neighbors", "link"),
+    ] {
+        renamed = renamed.replace(from, to);
+    }
+    plant(
+        "grader/src/helper.rs",
+        &renamed.replace(", ", ",\n    ").replace("//", "// note:"),
+    );
+    let found = reference::handout::solution_copies(&dir).unwrap();
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(
+        found[0].starts_with("crates/halfedge/tests/validate.rs:"),
+        "{found:?}"
+    );
+    assert!(found[1].starts_with("grader/src/helper.rs:"), "{found:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
