@@ -26,7 +26,7 @@ pub struct Case {
     pub tolerance: f64,
 }
 
-fn ends(mesh: &Mesh, e: EdgeId) -> [usize; 2] {
+pub(crate) fn ends(mesh: &Mesh, e: EdgeId) -> [usize; 2] {
     let (a, b) = mesh.edge_vertices(e);
     [a.index(), b.index()]
 }
@@ -77,7 +77,7 @@ fn split_edge_choice(mesh: &Mesh) -> [usize; 2] {
     ends(mesh, e)
 }
 
-fn case(
+pub(crate) fn case(
     name: &str,
     object: &str,
     group: Group,

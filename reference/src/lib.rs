@@ -6,8 +6,10 @@
 //!   rules and a choice of weights.
 //! - [`mutants`]: other correct answers and one wrong answer per common
 //!   mistake, for the fixtures' hints and the grader's tests.
-//! - [`hostile`]: attacks on the grader, for its tests.
+//! - [`hostile`]: attacks on the grader, for its tests; [`lookup`]: the
+//!   lookup table of the visible cases.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
+//! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`handout`]: exporting the student workspace.
 //! - [`class`]: grading a folder of submissions.
 //! - [`tokens`]: Rust source as normalised tokens, and the runs two
@@ -17,8 +19,10 @@
 
 pub mod cases;
 pub mod class;
+pub mod fresh;
 pub mod handout;
 pub mod hostile;
+pub mod lookup;
 pub mod mutants;
 pub mod solution;
 pub mod tokens;

@@ -135,6 +135,18 @@ enum Command {
         #[arg(short = 'o', long)]
         output: PathBuf,
     },
+    /// Write the fresh cases of a seed (as a class report names it) into
+    /// DIR's hidden/ and bonus/, to replay them: then `grade --fixtures DIR`.
+    Fresh {
+        /// The seed, 16 hex digits (`fresh-SEED-...` in the case names).
+        #[arg(long, value_parser = parse_seed)]
+        seed: u64,
+        /// The fixtures folder to add them to (new or existing).
+        #[arg(long, value_name = "DIR")]
+        dir: PathBuf,
+        #[command(flatten)]
+        weights: WeightOpt,
+    },
     /// Write the student workspace (no solution, no hidden cases, with the
     /// GitHub Classroom workflow) to DIR.
     Handout {
@@ -175,6 +187,10 @@ enum Command {
         /// Count the bonus cases.
         #[arg(long)]
         bonus: bool,
+        /// Grade on the fixtures alone, without each submission's fresh
+        /// cases (random meshes drawn from a seed per submission).
+        #[arg(long)]
+        no_fresh: bool,
         /// No progress lines.
         #[arg(short, long)]
         quiet: bool,
@@ -270,6 +286,14 @@ const PROGRESS_FACES: usize = 1_000_000;
 const MAX_FIXTURE_FACES: usize = 50_000;
 /// Reader warnings printed one by one; the summary line counts them all.
 const MAX_WARNINGS_SHOWN: usize = 10;
+
+/// A fresh-case seed: 16 hex digits, as case names print it.
+fn parse_seed(text: &str) -> Result<u64, String> {
+    if text.is_empty() || text.len() > 16 {
+        return Err(format!("{text:?}: a seed is 1 to 16 hex digits"));
+    }
+    u64::from_str_radix(text, 16).map_err(|_| format!("{text:?}: a seed is 1 to 16 hex digits"))
+}
 
 /// Reads an OBJ file and prints what the reader ignored to stderr.
 fn read_obj(path: &Path) -> Result<Mesh, String> {
@@ -794,12 +818,23 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             Ok(ExitCode::SUCCESS)
         }
+        Command::Fresh { seed, dir, weights } => {
+            let n = reference::fresh::write(&dir, seed, Weights::from(weights.weights))?;
+            println!(
+                "wrote {n} fresh cases of seed {seed:016x} into {}; grade them with \
+                 `cargo run -p reference -- grade --fixtures {}`",
+                dir.display(),
+                dir.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Class {
             submissions,
             out,
             timeout,
             budget,
             bonus,
+            no_fresh,
             quiet,
         } => {
             for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
@@ -818,6 +853,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 timeout,
                 budget,
                 bonus,
+                fresh: !no_fresh,
                 target,
                 progress: !quiet,
             };

@@ -149,6 +149,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
         e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
+        e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }

@@ -718,6 +718,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         timeout: 1.0,
         budget: 8.0,
         bonus: false,
+        fresh: true,
         target: target(),
         progress: false,
     };
@@ -741,7 +742,10 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         ]
     );
     let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
-    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
+    // Each submission also gets its fresh cases, counted like hidden ones.
+    let fresh = reference::fresh::counted(false);
+    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64
+        + fresh.iter().sum::<usize>() as f64;
 
     assert_eq!((row("alice").score, row("alice").max), (0.0, max));
     assert_eq!(row("alice").status, "failed");
@@ -757,7 +761,24 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{}",
         std::fs::read_to_string(out.join("bob.log")).unwrap()
     );
-    assert_eq!(bob.functions[0], (counted("flip"), counted("flip")));
+    let flips = counted("flip") + fresh[0];
+    assert_eq!(bob.functions[0], (flips, flips));
+    let bob_txt = std::fs::read_to_string(out.join("bob.txt")).unwrap();
+    let secret = std::fs::read(root().join("fixtures/hidden/SHA256SUMS")).unwrap();
+    let bob_rs = std::fs::read(subs.join("bob/lab/crates/meshedit/src/lib.rs")).unwrap();
+    let seed = format!("{:016x}", reference::fresh::seed_for(&secret, &bob_rs));
+    assert!(
+        bob_txt.contains(&format!("fresh cases: seed {seed}")),
+        "the report names the seed to replay: {bob_txt}"
+    );
+    assert!(
+        std::fs::read_to_string(out.join("bob.log"))
+            .unwrap()
+            .contains(&format!(
+                "== fresh-{seed}-torus-split (hidden, split): passed"
+            )),
+        "fresh cases graded under their seed"
+    );
     assert_eq!((row("carol").score, row("carol").max), (0.0, max));
     assert_eq!(row("carol").status, "does not compile");
     assert!(
@@ -819,10 +840,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{csv}"
     );
     assert!(
-        csv.contains(&format!(
-            "\nbob,{max},{max},passed,{0}/{0},",
-            counted("flip")
-        )),
+        csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
         "{csv}"
     );
     assert_eq!(csv.lines().count(), 11, "{csv}");
