@@ -66,7 +66,7 @@ fn a_watch_grades_on_every_save_and_ctrl_c_leaves_nothing_running() {
     });
     // Every pass ends with its verdict and then the watch's prompt.
     let mut transcript = Vec::new();
-    let mut next_prompt = |transcript: &mut Vec<String>| loop {
+    let next_prompt = |transcript: &mut Vec<String>| loop {
         let line = rx
             .recv_timeout(Duration::from_secs(120))
             .unwrap_or_else(|_| panic!("no prompt; so far:\n{}", transcript.join("\n")));
