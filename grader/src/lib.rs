@@ -247,16 +247,22 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
             Some(name) => name.to_string(),
         };
         let target = dir.parent().ok_or("this program's folder has no parent")?;
-        let status = std::process::Command::new(cargo)
+        // `cargo run -p grader` compiled crates/meshedit just before (this
+        // package depends on it) and showed its warnings; cargo would replay
+        // them here, so its output is shown only if this build fails.
+        let built = std::process::Command::new(cargo)
             .args(["build", "--quiet", "-p", "grader", "--bin", "grader-child"])
             .arg("--profile")
             .arg(&profile)
             .arg("--target-dir")
             .arg(target)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .status()
+            .stdin(std::process::Stdio::null())
+            .output()
             .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if !status.success() {
+        if !built.status.success() {
+            use std::io::Write;
+            let _ = std::io::stderr().write_all(&built.stderr);
             return Err(
                 "your code does not compile: the compiler's messages are above".to_string(),
             );
