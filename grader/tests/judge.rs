@@ -73,7 +73,8 @@ fn input_counts(f: &Fixture) -> Counts {
 
 /// Counts of the expected result, from its own vertices and edges; faces
 /// (holes included) from the Euler characteristic V - E + F, which a split
-/// keeps: an argument apart from the grader's count of divided triangles.
+/// and a subdivision keep: an argument apart from the grader's count of
+/// divided triangles and its rule per round.
 fn expected_counts(f: &Fixture) -> Counts {
     let before = input_counts(f);
     let euler = before.vertices as i64 - before.edges as i64 + before.faces as i64;
@@ -120,12 +121,8 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         }
         _ => unreachable!(),
     };
-    let after = match f.operation {
-        // Subdivision is judged on positions and edges, not counts.
-        fixture::Operation::Subdivide { .. } => input_counts(f),
-        _ => expected_counts(f),
-    };
-    (returned, after, mesh)
+    // Splits and subdivision keep the Euler characteristic: faces follow.
+    (returned, expected_counts(f), mesh)
 }
 
 fn finished(
@@ -712,4 +709,86 @@ fn opts(color: bool) -> grader::report::TextOptions {
         protections: "protections: test".into(),
         ..Default::default()
     }
+}
+
+#[test]
+fn subdivision_counts_come_before_shape_in_plain_words() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mesh) = perfect(&f);
+    // The hand counts of the lab's cube after one round (shared/README.md).
+    assert_eq!((after.vertices, after.edges), (26, 72));
+    let mut more_edges = after;
+    more_edges.edges += 1;
+    more_edges.halfedges += 2;
+    let r = finished(&f, returned.clone(), more_edges, None, Some(mesh.clone()));
+    assert_fails_with(&r, "number of edges is wrong: 73 (should be 72)");
+    assert_detail(&r, "from 8 vertices, 18 edges and 12 triangles, 1 round gives 26 vertices, 72 edges, 48 triangles");
+    let mut fewer_faces = after;
+    fewer_faces.faces -= 2;
+    let r = finished(&f, returned.clone(), fewer_faces, None, Some(mesh.clone()));
+    assert_fails_with(&r, "number of faces is wrong: 46 (should be 48)");
+
+    // Only the new vertices (ids 8 and up) moved: the edge rule.
+    let mut new_moved = mesh.clone();
+    for p in &mut new_moved.positions[8..] {
+        p[1] += 0.01;
+    }
+    let r = finished(&f, returned.clone(), after, None, Some(new_moved));
+    assert_fails_with(&r, "at least one of the vertices has incorrect position");
+    assert_detail(
+        &r,
+        "every old vertex is right; 18 of 18 new vertices are wrong: look at the edge rule",
+    );
+    let mut old_moved = mesh.clone();
+    for p in &mut old_moved.positions[..3] {
+        p[0] += 0.01;
+    }
+    let r = finished(&f, returned.clone(), after, None, Some(old_moved));
+    assert_detail(
+        &r,
+        "every new vertex is right; 3 of 8 old vertices are wrong: look at the vertex rule",
+    );
+
+    // Two rounds: the old vertices are the first round's 26.
+    let g = load("lab/cube-subdivide-2.json");
+    let (returned2, after2, mesh2) = perfect(&g);
+    let mut last_new = mesh2;
+    for p in &mut last_new.positions[26..] {
+        p[2] -= 0.01;
+    }
+    let r = finished(&g, returned2, after2, None, Some(last_new));
+    assert_detail(
+        &r,
+        &format!(
+            "every old vertex is right; {} of {} new vertices are wrong",
+            after2.vertices - 26,
+            after2.vertices - 26
+        ),
+    );
+}
+
+#[test]
+fn wrong_subdivision_edges_say_which_vertices_they_join() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mesh) = perfect(&f);
+    // One edge between two new vertices (x, y) moved to join x and an old
+    // vertex z instead: as if an old-new edge had stayed unflipped.
+    let (i, &[x, _]) = mesh
+        .edges
+        .iter()
+        .enumerate()
+        .find(|(_, e)| e[0] >= 8 && e[1] >= 8)
+        .expect("a new-new edge");
+    let z = (0..8)
+        .find(|&z| !mesh.edges.iter().any(|e| e == &[x, z] || e == &[z, x]))
+        .expect("an old vertex not joined to x");
+    let mut swapped = mesh.clone();
+    swapped.edges[i] = [x, z];
+    let r = finished(&f, returned, after, None, Some(swapped));
+    assert_fails_with(&r, "at least one of the edges connects incorrect vertices");
+    assert_detail(&r, "of the missing edges 1 join two new vertices; of your extra edges 1 join an old and a new vertex");
+    assert_detail(
+        &r,
+        "new edges joining an old and a new vertex were left unflipped",
+    );
 }
