@@ -178,8 +178,14 @@ pub fn run_request(req: Request, imp: &Implementation) -> Ran {
             Some(v) => Answer::Vertex(v),
         },
         Op::Subdivide { rounds } => {
-            for _ in 0..rounds {
+            for round in 1..=rounds {
                 (imp.loop_subdivide)(&mut mesh);
+                // A round that broke the mesh ends the case there: the next
+                // would only walk the broken links and panic far from the
+                // mistake, which the parent can name from this mesh.
+                if round < rounds && mesh.validate().is_err() {
+                    break;
+                }
             }
             Answer::Unit
         }

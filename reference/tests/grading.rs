@@ -74,6 +74,15 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("flip-halves", "cube-subdivide-1", "the result of subdivision is a invalid mesh:", Some("hint: halves of the old edges were flipped too")),
     ("new-at-origin", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: the new vertices ended at the origin")),
     ("in-place", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: the old vertices were moved while their new positions were still being computed")),
+    ("in-place-vertices-first", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: the old vertices were moved inside the vertex loop")),
+    ("swapped-edge-weights", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: the edge rule's weights are swapped")),
+    ("edge-points-while-splitting", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: the new vertices were placed while splitting")),
+    ("neighbour-skipped", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: the walk around each old vertex missed one neighbour")),
+    ("wrong-corner", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("also what the far corners read one step short give")),
+    ("integer-u", "cone-subdivide-1", "at least one of the vertices has incorrect position", Some("hint: u came out 0 for vertices with n other than 3")),
+    ("integer-u", "cube-subdivide-1", "at least one of the vertices has incorrect position", Some("as 3 / (8 * n) does in integers")),
+    ("flip-all-new-checked", "cube-subdivide-1", "at least one of the edges connects incorrect vertices", Some("hint: edges joining two new vertices were flipped too")),
+    ("flip-halves-checked", "cube-subdivide-1", "at least one of the edges connects incorrect vertices", Some("hint: halves of the old edges were flipped too")),
     ("stale-flags", "cube-subdivide-2", "at least one of the edges connects incorrect vertices", Some("hint: the second round went wrong: reset is_new")),
     ("split-returns-old", "cube-split", "split_edge returned v2, a vertex that was there before the split: it must return the new vertex", None),
     ("split-new-again", "cube-subdivide-1", "loop_subdivide panicked: the mesh grew past", Some("hint: are edges created while splitting split again?")),
@@ -683,4 +692,44 @@ fn try_runs_a_function_on_any_mesh() {
         "{stdout}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every mistake the fixtures record is named on every counted
+/// subdivision case it fails, one round or two (the catalogue entry of
+/// the same name makes it), and gets its own hint on at least one of them
+/// (where two mistakes give the same mesh, as an integer u and unmoved
+/// vertices do on the cube, the first one's hint stands for both).
+#[test]
+fn every_known_mistake_is_named_wherever_it_fails() {
+    for known in reference::mutants::subdivision_mistakes() {
+        let g = grade(known.id, &["--stage", "subdivide", "--timeout", "5"]);
+        assert_eq!(g.code, 1, "{} passes?\n{}", known.id, g.stdout);
+        // Each case's block: from "start testing" to "end testing".
+        let (mut failed, mut own) = (0, 0);
+        let mut block: Vec<&str> = Vec::new();
+        for line in g.stdout.lines() {
+            if line.contains("[info] start testing") {
+                block.clear();
+            }
+            block.push(line);
+            if line.contains("[info] end testing") {
+                let text = block.join("\n");
+                if text.contains("[warn] ") && !text.contains("panicked, as it must") {
+                    failed += 1;
+                    own += usize::from(text.contains(&format!("hint: {}", known.hint)));
+                    assert!(
+                        text.contains("        hint: "),
+                        "{} fails a case without a hint:\n{text}",
+                        known.id
+                    );
+                }
+            }
+        }
+        assert!(
+            failed > 0,
+            "{}: no failing case seen\n{}",
+            known.id,
+            g.stdout
+        );
+    }
 }
