@@ -731,5 +731,11 @@ fn every_known_mistake_is_named_wherever_it_fails() {
             known.id,
             g.stdout
         );
+        assert!(
+            own > 0,
+            "{}: its own hint is never given\n{}",
+            known.id,
+            g.stdout
+        );
     }
 }
