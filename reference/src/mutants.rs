@@ -93,6 +93,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", with(Some(flip_face_labels), None, Some(sub_flip_face_labels))),
         e("flip-boundary", "flip_edge does not refuse boundary edges (every other rule kept)", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
         e("flip-index-panic", "flip_edge indexes past the end of a Vec", with(Some(flip_index_panic), None, None)),
+        e("flip-unset-link", "flip_edge indexes the mesh with the unset link of a new halfedge", with(Some(flip_unset_link), None, None)),
         e("flip-duplicates", "flip_edge does not refuse a flip whose new edge exists already", with(Some(flip_without_duplicate_check), None, None)),
         e("flip-moves-vertex", "flip_edge relinks right but moves a vertex", with(Some(flip_moves_vertex), None, None)),
         e("split-any-face", "split_edge splits beside faces that are not triangles", with(None, Some(split_any_face), None)),
@@ -336,6 +337,14 @@ fn flip_boundary(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     }
     solution::relink_flip(mesh, e);
     Some(e)
+}
+
+/// Reads a link a new element never got: indexing with an unset id.
+fn flip_unset_link(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let stray = mesh.new_halfedge();
+    let next = mesh[stray].next;
+    let _ = mesh[next].vertex;
+    solution::flip_edge(mesh, e)
 }
 
 #[allow(clippy::useless_vec)]

@@ -59,6 +59,8 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("flip-face-labels", "cube-flip-1", "the result of flip_edge is a invalid mesh: A halfedge does not point to its face!", None),
     ("flip-boundary", "open-octahedron-flip", "flip_edge changed a boundary edge: it must return None and leave the mesh unchanged", None),
     ("flip-index-panic", "cube-flip-1", "flip_edge panicked: index out of bounds", Some("reference/src/mutants.rs")),
+    // A panic inside the mesh library is placed at the line that called it.
+    ("flip-unset-link", "cube-flip-1", "flip_edge panicked: there is no halfedge h-none", Some("at reference/src/mutants.rs:")),
     ("split-not-midpoint", "cube-split", "split vertex is not at the midpoint of the edge", Some("the midpoint is")),
     ("split-vertex-across", "cube-split", "the new vertex's halfedge does not run along the split edge", Some("must lead to vertex")),
     ("split-none", "cube-split", "split_edge returned None for an edge between two triangles: it must split it", None),
