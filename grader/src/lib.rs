@@ -16,7 +16,8 @@
 //!   reading of its result ([`child::analyze`]).
 //! - [`matching`]: order-independent comparison of vertices and edges.
 //! - [`grade`]: the verdict and messages for one case.
-//! - [`report`]: text, JSON and Gradescope output.
+//! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
+//!   anything the student's code said is shown (as data, under `| `).
 //!
 //! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
 //! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
@@ -35,6 +36,7 @@ pub mod fixture;
 pub mod grade;
 pub mod html;
 pub mod matching;
+pub mod quoted;
 pub mod relabel;
 pub mod report;
 pub mod runner;
@@ -428,12 +430,7 @@ fn grade_all(
                     &mut status,
                 )
                 .map(|mut r| {
-                    let timed = r.entries.iter().any(|e| {
-                        e.level == grade::Level::Warn
-                            && (e.text.contains("did not finish within")
-                                || e.text.contains("was never reached"))
-                    });
-                    if timed {
+                    if r.timed_out {
                         match &earlier {
                             Some(name) => grade::add_detail(
                                 &mut r,

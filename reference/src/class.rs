@@ -17,6 +17,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use grader::quoted::{self, Quoted};
+
 use crate::handout::{self, Purpose};
 
 /// The three functions, in grading order: (stage option, name, fixture kind).
@@ -367,11 +369,17 @@ fn compiler_text(stderr: &str) -> String {
         .to_string()
 }
 
-fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n']) {
-        format!("\"{}\"", text.replace('"', "\"\"").replace('\n', " "))
-    } else {
-        text.to_string()
+/// Text of the student's making (a compiler's errors quote their code, a
+/// reason may name their files) as shown in reports: its first line on one
+/// line, the rest under `| `, control characters escaped.
+fn shown(why: &str) -> String {
+    match why.split_once('\n') {
+        Some((head, rest)) => format!(
+            "{}\n{}",
+            quoted::one_line(head),
+            Quoted::new(rest.trim_start_matches('\n')).block("")
+        ),
+        None => quoted::one_line(why),
     }
 }
 
@@ -465,7 +473,7 @@ pub fn grade_class(
             eprintln!(
                 "[{done:>3}/{}] {:<20} {:>5}/{:<3} {:<16} {:>5.1} s  (about {:.0} s left)",
                 students.len(),
-                row.name,
+                quoted::one_line(&row.name),
                 row.score,
                 row.max,
                 row.status,
@@ -483,14 +491,14 @@ pub fn grade_class(
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{},{}",
-            csv_field(&r.name),
+            quoted::csv_field(&r.name),
             r.score,
             r.max,
             r.status,
             f(0),
             f(1),
             f(2),
-            csv_field(&r.first_failure)
+            quoted::csv_field(&r.first_failure)
         );
     }
     std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
@@ -533,12 +541,16 @@ fn grade_one(
             .or_else(|| why.lines().next())
             .unwrap_or("")
             .to_string();
+        let why = shown(why);
         write(
             "txt",
-            &format!("{}: {status} (0 of {max})\n\n{why}\n", s.name),
+            &format!(
+                "{}: {status} (0 of {max})\n\n{why}\n",
+                quoted::one_line(&s.name)
+            ),
         )?;
-        write("log", log)?;
-        write("results.json", &zero_results(why, max))
+        write("log", &shown(log))?;
+        write("results.json", &zero_results(&why, max))
     };
     let lib_rs = match &s.lib_rs {
         Ok(p) => p,
@@ -635,7 +647,7 @@ fn grade_one(
     let bonus = report["bonus_counted"].as_bool().unwrap_or(false);
     let mut full = String::new();
     if !compiler.is_empty() {
-        let _ = writeln!(full, "compiler output:\n{compiler}\n");
+        let _ = writeln!(full, "compiler output:\n{}", Quoted::new(&*compiler).block(""));
     }
     let mut counted = [(0, 0); 3];
     let mut failures = Vec::new();
@@ -650,22 +662,29 @@ fn grade_one(
             c["stage"].as_str().unwrap_or("?"),
             if passed { "passed" } else { "FAILED" }
         );
+        // Student text comes as lists of lines; shown the grader's way.
+        let lines_of = |v: &serde_json::Value| -> Option<Quoted> {
+            let lines = v.as_array()?;
+            let text: Vec<&str> = lines.iter().filter_map(|l| l.as_str()).collect();
+            Some(Quoted::new(text.join("\n")))
+        };
         for e in c["entries"].as_array().into_iter().flatten() {
             let level = e["level"].as_str().unwrap_or("info");
-            let text = e["text"].as_str().unwrap_or("");
+            let text = quoted::one_line(e["text"].as_str().unwrap_or(""));
+            let quote = lines_of(&e["quote"]);
+            let (line, below) = quoted::quoting(&text, quote.as_ref(), "        ");
             match level {
                 "detail" => {
-                    let _ = writeln!(full, "        {text}");
+                    let _ = writeln!(full, "        {line}");
                 }
                 _ => {
-                    let _ = writeln!(full, "[{level}] {text}");
+                    let _ = writeln!(full, "[{}] {line}", quoted::one_line(level));
                 }
             }
+            full.push_str(&below);
         }
-        if let Some(printed) = c["output"].as_str().filter(|o| !o.trim().is_empty()) {
-            for l in printed.trim_end().lines() {
-                let _ = writeln!(full, "    | {l}");
-            }
+        if let Some(printed) = lines_of(&c["output"]).filter(|o| !o.is_blank()) {
+            full.push_str(&printed.block("    "));
         }
         if !is_counted {
             continue;
@@ -678,14 +697,8 @@ fn grade_one(
             }
         }
         if !passed {
-            let first = c["entries"]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .find(|e| e["level"] == "warn")
-                .and_then(|e| e["text"].as_str())
-                .unwrap_or("failed");
-            failures.push(format!("{name}: {first}"));
+            let first = c["first_warning"].as_str().unwrap_or("failed");
+            failures.push(quoted::one_line(&format!("{name}: {first}")));
         }
     }
     let passed: usize = counted.iter().map(|c| c.0).sum();
@@ -696,7 +709,11 @@ fn grade_one(
     row.status = if passed == total { "passed" } else { "failed" }.into();
     row.first_failure = failures.first().cloned().unwrap_or_default();
 
-    let mut short = format!("{}: {} ({passed} of {total})\n", s.name, row.status);
+    let mut short = format!(
+        "{}: {} ({passed} of {total})\n",
+        quoted::one_line(&s.name),
+        row.status
+    );
     for (k, (_, function)) in FUNCTIONS.iter().enumerate() {
         let _ = writeln!(short, "  {function:<15} {}/{}", counted[k].0, counted[k].1);
     }
