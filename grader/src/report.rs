@@ -78,6 +78,8 @@ pub struct TextOptions {
     pub partial: Option<String>,
     /// Where `--report` wrote its index.html, said above the verdict.
     pub report: Option<String>,
+    /// The per-call limit, when `--budget` shortened it.
+    pub time: Option<String>,
 }
 
 /// At most this many failing cases are listed in the summary.
@@ -92,6 +94,9 @@ pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
     let color = opts.color;
     let mut out = String::new();
     log_line(&mut out, file!(), line!(), false, &opts.protections, color);
+    if let Some(time) = &opts.time {
+        log_line(&mut out, file!(), line!(), false, time, color);
+    }
     let (main, extra): (Vec<_>, Vec<_>) = cases.iter().partition(|c| c.group != Group::Bonus);
     if !opts.quiet {
         for case in &main {
@@ -253,6 +258,8 @@ struct JsonReport<'a> {
     passed: bool,
     bonus_counted: bool,
     protections: &'a str,
+    /// The runs and the per-call limit they were given.
+    plan: &'a crate::Plan,
     cases: Vec<JsonCase<'a>>,
 }
 
@@ -268,11 +275,12 @@ struct JsonCase<'a> {
 
 /// The report as JSON, for scripts. Student text (`output`, an entry's
 /// `quote`) is a list of escaped lines; `text` is the grader's words only.
-pub fn json(cases: &[CaseReport], bonus: bool, protections: &str) -> String {
+pub fn json(cases: &[CaseReport], bonus: bool, protections: &str, plan: &crate::Plan) -> String {
     serde_json::to_string_pretty(&JsonReport {
         passed: all_passed(cases, bonus),
         bonus_counted: bonus,
         protections,
+        plan,
         cases: cases
             .iter()
             .map(|case| JsonCase {

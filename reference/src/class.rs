@@ -30,6 +30,9 @@ const FUNCTIONS: [(&str, &str); 3] = [
 
 /// Folders of an upload that never hold the student's file.
 const SKIP_DIRS: [&str; 3] = ["target", ".git", "__MACOSX"];
+/// Seconds of a submission's budget kept from the grader's own (for its
+/// start and end): the deadline that kills it is the whole budget.
+const GRADER_MARGIN: f64 = 2.0;
 /// Crates of the lab other than the student's: their `lib.rs` is never taken.
 const OTHER_CRATES: [&str; 4] = ["halfedge", "grader", "reference", "crates"];
 
@@ -605,8 +608,13 @@ fn grade_one(
 
     let results = logs.join("results.json");
     let mut grade = Command::new(exe);
+    // The grader counts its child runs (a passing case runs once per
+    // labelling) and shortens the per-call limit so that all of them fit
+    // in the budget; the deadline below only stops what ignores limits.
+    let grading_budget = (options.budget - GRADER_MARGIN).max(0.1);
     grade
         .args(["--no-color", "--timeout", &options.timeout.to_string()])
+        .args(["--budget", &format!("{grading_budget:.2}")])
         .arg("--fixtures")
         .arg(fixtures)
         .args(["--format", "json", "--gradescope"])
