@@ -351,7 +351,8 @@ impl Plan {
         let slots = runs as f64 / w + (1.0 - 1.0 / w) * longest_case as f64;
         let timeout = match budget {
             Some(b) if slots > 0.0 => {
-                let share = (b - RUN_START) / slots - RUN_OVERHEAD;
+                // In hundredths of a second, as the messages show it.
+                let share = (((b - RUN_START) / slots - RUN_OVERHEAD) * 100.0).floor() / 100.0;
                 // Never below the shortest limit the grader takes; the
                 // time line says when the budget cannot hold every run.
                 timeout.min(share).max(MIN_TIMEOUT)
@@ -737,10 +738,10 @@ mod tests {
         assert_eq!(Plan::new(120, 5, 1, 0.4, Some(100.0)).timeout, 0.4);
         // One worker: every run one after another.
         let p = Plan::new(120, 5, 1, 10.0, Some(61.0));
-        assert!((p.timeout - (60.0 / 120.0 - RUN_OVERHEAD)).abs() < 1e-9, "{p:?}");
+        assert_eq!(p.timeout, 0.45, "{p:?}");
         // Two: half the runs, plus what the longest case may leave over.
         let p = Plan::new(120, 5, 2, 10.0, Some(63.5));
-        assert!((p.timeout - (62.5 / 62.5 - RUN_OVERHEAD)).abs() < 1e-9, "{p:?}");
+        assert_eq!(p.timeout, 0.95, "{p:?}");
         // No budget, or one too short: the limit asked for, or the shortest.
         assert_eq!(Plan::new(120, 5, 1, 3.0, None).timeout, 3.0);
         assert_eq!(Plan::new(120, 5, 1, 3.0, Some(2.0)).timeout, MIN_TIMEOUT);
