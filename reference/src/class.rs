@@ -654,6 +654,15 @@ fn grade_one(
     let cases = report["cases"].as_array().cloned().unwrap_or_default();
     let bonus = report["bonus_counted"].as_bool().unwrap_or(false);
     let mut full = String::new();
+    let plan = &report["plan"];
+    if let (Some(limit), Some(runs)) = (plan["timeout"].as_f64(), plan["runs"].as_u64()) {
+        let _ = writeln!(
+            full,
+            "time: each call may take {limit} s ({runs} runs, {} side by side, in a budget of {} s)\n",
+            plan["workers"].as_u64().unwrap_or(1),
+            plan["budget"].as_f64().unwrap_or(options.budget)
+        );
+    }
     if !compiler.is_empty() {
         let _ = writeln!(full, "compiler output:\n{}", Quoted::new(&*compiler).block(""));
     }
