@@ -254,7 +254,12 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
             } else if message.to_lowercase().contains("triangle") {
-                quote!(log, Info, message.as_str(), "{function} panicked, as it must:");
+                quote!(
+                    log,
+                    Info,
+                    message.as_str(),
+                    "{function} panicked, as it must:"
+                );
             } else {
                 quote!(
                     log,

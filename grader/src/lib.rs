@@ -346,7 +346,13 @@ impl Plan {
     /// within runs/w + (1 - 1/w) x longest case of run-times; a case that
     /// fails stops early and a function that timed out gets a shorter
     /// limit, so that bound holds whatever the student's code does.
-    fn new(runs: usize, longest_case: usize, workers: usize, timeout: f64, budget: Option<f64>) -> Plan {
+    fn new(
+        runs: usize,
+        longest_case: usize,
+        workers: usize,
+        timeout: f64,
+        budget: Option<f64>,
+    ) -> Plan {
         let w = workers.max(1) as f64;
         let slots = runs as f64 / w + (1.0 - 1.0 / w) * longest_case as f64;
         let timeout = match budget {

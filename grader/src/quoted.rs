@@ -133,7 +133,10 @@ impl Quoted {
     /// Whether [`Quoted::inline`] shows all of it.
     pub fn fits_inline(&self) -> bool {
         let lines = self.lines();
-        lines.len() <= 1 && lines.first().is_none_or(|l| l.chars().count() <= INLINE_CHARS)
+        lines.len() <= 1
+            && lines
+                .first()
+                .is_none_or(|l| l.chars().count() <= INLINE_CHARS)
     }
 
     /// Every line under `indent` and [`PREFIX`].
@@ -189,7 +192,11 @@ mod tests {
         let q = Quoted::new("a\x1b[2Jb\rc\n[info] all tests passed\r\n\u{9b}x\t\n\n");
         assert_eq!(
             q.lines(),
-            ["a\\u{1b}[2Jb\\u{d}c", "[info] all tests passed", "\\u{9b}x\t"]
+            [
+                "a\\u{1b}[2Jb\\u{d}c",
+                "[info] all tests passed",
+                "\\u{9b}x\t"
+            ]
         );
         assert_eq!(
             q.block("  "),

@@ -179,7 +179,10 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     let _ = done.send(());
     let _ = ticker.join();
     let took = start.elapsed().as_secs_f64();
-    print!("{}", crate::quoted::Quoted::new(raw.output.clone()).block("    "));
+    print!(
+        "{}",
+        crate::quoted::Quoted::new(raw.output.clone()).block("    ")
+    );
     let ran = match raw.exit {
         Exit::Finished(ran) => ran,
         other => {

@@ -360,7 +360,11 @@ fn faults() {
     assert_fails_with(&r, "loop_subdivide panicked: not yet implemented");
     assert_detail(&r, "at crates/meshedit/src/lib.rs:9:5");
     assert_detail(&r, "still a todo!() stub");
-    assert_eq!(r.output.raw(), "debug print\n", "the student's output is kept");
+    assert_eq!(
+        r.output.raw(),
+        "debug print\n",
+        "the student's output is kept"
+    );
     let r = faulted(&f, Run::OutOfMemory(2 << 30));
     assert_fails_with(&r, "loop_subdivide used more than 2 GiB of memory");
     assert_detail(&r, "--memory changes the cap");

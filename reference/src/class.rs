@@ -664,7 +664,11 @@ fn grade_one(
         );
     }
     if !compiler.is_empty() {
-        let _ = writeln!(full, "compiler output:\n{}", Quoted::new(&*compiler).block(""));
+        let _ = writeln!(
+            full,
+            "compiler output:\n{}",
+            Quoted::new(&*compiler).block("")
+        );
     }
     let mut counted = [(0, 0); 3];
     let mut failures = Vec::new();

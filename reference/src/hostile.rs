@@ -744,4 +744,3 @@ pub fn escapes(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     let _ = (mesh, e);
     panic!("bad edge{ESCAPES}");
 }
-

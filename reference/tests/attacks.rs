@@ -638,7 +638,8 @@ fn strings(v: &serde_json::Value, out: &mut Vec<String>) {
 
 /// A control character a terminal obeys (anything but newline and tab).
 fn has_control(text: &str) -> bool {
-    text.chars().any(|c| c.is_control() && c != '\n' && c != '\t')
+    text.chars()
+        .any(|c| c.is_control() && c != '\n' && c != '\t')
 }
 
 #[test]
@@ -659,7 +660,12 @@ fn no_line_of_the_grader_can_be_forged() {
     // The terminal: the forged summary and verdict appear only under `| `,
     // and the real verdict is the last line.
     for forged in ["congratulations", "flip_edge 10/10"] {
-        assert_eq!(unquoted_with(&g.stdout, forged), Vec::<&str>::new(), "{}", g.context());
+        assert_eq!(
+            unquoted_with(&g.stdout, forged),
+            Vec::<&str>::new(),
+            "{}",
+            g.context()
+        );
     }
     assert!(
         g.stdout
@@ -688,10 +694,20 @@ fn no_line_of_the_grader_can_be_forged() {
     assert!(tests.iter().all(|t| t["score"] == 0.0), "{gs}");
     for t in tests {
         let output = t["output"].as_str().unwrap();
-        assert!(output.contains("| report.rs:262 [info] all tests passed"), "{output}");
-        assert_eq!(unquoted_with(output, "congratulations"), Vec::<&str>::new(), "{output}");
+        assert!(
+            output.contains("| report.rs:262 [info] all tests passed"),
+            "{output}"
+        );
+        assert_eq!(
+            unquoted_with(output, "congratulations"),
+            Vec::<&str>::new(),
+            "{output}"
+        );
     }
-    assert_eq!(gs["output"].as_str().unwrap().lines().next(), Some("test failed"));
+    assert_eq!(
+        gs["output"].as_str().unwrap().lines().next(),
+        Some("test failed")
+    );
 
     // HTML: every forged line is under `| `, inside the report's own text.
     let html = std::fs::read_to_string(pictures.join("index.html")).unwrap();
@@ -705,11 +721,17 @@ fn no_line_of_the_grader_can_be_forged() {
 
     // JSON: the grader's words never hold the student's; the student's text
     // is a list of lines.
-    let j = grade("forged-lines", &["--case", "cube-flip-1", "--format", "json"]);
+    let j = grade(
+        "forged-lines",
+        &["--case", "cube-flip-1", "--format", "json"],
+    );
     let report: serde_json::Value = serde_json::from_str(&j.stdout).expect("JSON");
     let case = &report["cases"][0];
     for e in case["entries"].as_array().unwrap() {
-        assert!(!e["text"].as_str().unwrap().contains("congratulations"), "{e}");
+        assert!(
+            !e["text"].as_str().unwrap().contains("congratulations"),
+            "{e}"
+        );
     }
     let panicked = case["entries"]
         .as_array()
@@ -726,7 +748,10 @@ fn no_line_of_the_grader_can_be_forged() {
             "report.rs:262 [info] all tests passed, congratulations!"
         ])
     );
-    assert_eq!(case["output"][2], "report.rs:262 [info] all tests passed, congratulations!");
+    assert_eq!(
+        case["output"][2],
+        "report.rs:262 [info] all tests passed, congratulations!"
+    );
     assert_eq!(
         case["first_warning"],
         "flip_edge panicked: index out of bounds (and 2 more lines, below)"
@@ -752,13 +777,15 @@ fn escapes_and_carriage_returns_are_shown_not_obeyed() {
     assert!(!has_control(&g.stdout), "{:?}", g.stdout);
     // Shown, escaped, on lines of its own under `| `.
     assert!(
-        g.stdout
-            .contains("    | \\u{1b}[2J\\u{1b}[Hcleared\\u{1b}[8mhidden\\u{1b}[0m\\u{1b}]0;pwned\\u{7}"),
+        g.stdout.contains(
+            "    | \\u{1b}[2J\\u{1b}[Hcleared\\u{1b}[8mhidden\\u{1b}[0m\\u{1b}]0;pwned\\u{7}"
+        ),
         "{}",
         g.context()
     );
     assert!(
-        g.stdout.contains("\\u{9b}2J\\u{d}grade.rs:1 [info] all tests passed"),
+        g.stdout
+            .contains("\\u{9b}2J\\u{d}grade.rs:1 [info] all tests passed"),
         "{}",
         g.context()
     );
@@ -769,8 +796,15 @@ fn escapes_and_carriage_returns_are_shown_not_obeyed() {
         "{}",
         g.context()
     );
-    assert_eq!(unquoted_with(&g.stdout, "congratulations"), Vec::<&str>::new());
-    assert!(g.warned("flip_edge panicked: bad edge\\u{1b}[2J"), "{}", g.context());
+    assert_eq!(
+        unquoted_with(&g.stdout, "congratulations"),
+        Vec::<&str>::new()
+    );
+    assert!(
+        g.warned("flip_edge panicked: bad edge\\u{1b}[2J"),
+        "{}",
+        g.context()
+    );
 
     let text = std::fs::read_to_string(&results).unwrap();
     let mut all = Vec::new();

@@ -925,7 +925,10 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
     assert!(
-        csv.contains(&format!("\n'=cmd(),{},{max},failed,0/", counted("split") + 1)),
+        csv.contains(&format!(
+            "\n'=cmd(),{},{max},failed,0/",
+            counted("split") + 1
+        )),
         "{csv}"
     );
     assert!(
@@ -935,7 +938,10 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert!(csv.lines().all(|l| !l.contains("congratulations")), "{csv}");
     for ext in ["txt", "log"] {
         let report = std::fs::read_to_string(out.join(format!("=cmd().{ext}"))).unwrap();
-        assert!(!report.contains('\r') && !report.contains('\x1b'), "{report:?}");
+        assert!(
+            !report.contains('\r') && !report.contains('\x1b'),
+            "{report:?}"
+        );
         for l in report.lines().filter(|l| l.contains("congratulations")) {
             assert!(l.trim_start().starts_with("| "), "{ext}: {l}\n{report}");
         }
