@@ -6,6 +6,7 @@ use serde::Serialize;
 use crate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
 use crate::fixture::{Fixture, Group, Operation, Returns, Stage};
 use crate::matching::{self, VertexMatch};
+use crate::quoted::Quoted;
 use crate::runner::{ChildReport, Run};
 
 /// How a line is shown.
@@ -23,7 +24,12 @@ pub enum Level {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Entry {
     pub level: Level,
+    /// The grader's words, never the student's.
     pub text: String,
+    /// Student text the line quotes (a panic message, its location), shown
+    /// after `text` when it fits on the line, else under it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quote: Option<Quoted>,
     #[serde(skip)]
     pub file: &'static str,
     #[serde(skip)]
@@ -40,7 +46,11 @@ pub struct CaseReport {
     pub passed: bool,
     pub entries: Vec<Entry>,
     /// What the student's code printed while it ran.
-    pub output: String,
+    pub output: Quoted,
+    /// The case ran out of time (or never reached the call): later cases
+    /// of the same function get a shorter limit.
+    #[serde(skip)]
+    pub timed_out: bool,
     /// The input as sent on the labelling reported (the first that failed,
     /// else the mesh as built), for pictures and OBJ files.
     #[serde(skip)]
@@ -57,21 +67,51 @@ struct Log {
 
 macro_rules! say {
     ($log:expr, $level:ident, $($arg:tt)*) => {
-        $log.push(Level::$level, format!($($arg)*), file!(), line!())
+        $log.push(Level::$level, format!($($arg)*), None, file!(), line!())
+    };
+}
+
+/// A line of the grader's words followed by student text (`quote`, a
+/// [`Quoted`]), which is shown as data.
+macro_rules! quote {
+    ($log:expr, $level:ident, $quote:expr, $($arg:tt)*) => {
+        $log.push(Level::$level, format!($($arg)*), Some(Quoted::new($quote)), file!(), line!())
     };
 }
 
 impl Log {
-    fn push(&mut self, level: Level, text: String, file: &'static str, line: u32) {
+    fn push(
+        &mut self,
+        level: Level,
+        text: String,
+        quote: Option<Quoted>,
+        file: &'static str,
+        line: u32,
+    ) {
         if level == Level::Warn {
             self.passed = false;
         }
         self.entries.push(Entry {
             level,
             text,
+            quote,
             file,
             line,
         });
+    }
+}
+
+impl Entry {
+    /// The entry on one line: the grader's words, then the quoted text's
+    /// first line (escaped, cut) if any.
+    pub fn one_line(&self) -> String {
+        crate::quoted::quoting(&self.text, self.quote.as_ref(), "").0
+    }
+
+    /// The quoted text's lines under `indent` when they did not all fit
+    /// on the entry's line.
+    pub fn quote_below(&self, indent: &str) -> String {
+        crate::quoted::quoting(&self.text, self.quote.as_ref(), indent).1
     }
 }
 
@@ -118,7 +158,8 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         stage,
         passed: log.passed,
         entries: log.entries,
-        output: child.output.clone(),
+        output: Quoted::new(child.output.clone()),
+        timed_out: matches!(child.run, Run::TimedOut(_) | Run::StuckBeforeCall(_)),
         input: None,
         result: None,
     }
@@ -197,38 +238,45 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting.");
         }
         Run::JudgeFailed(message) => {
-            say!(
+            quote!(
                 log,
                 Warn,
-                "the grader could not judge this result ({message}): tell a TA, with your code"
+                message.as_str(),
+                "the grader could not judge this result: tell a TA, with your code; the grader's message:"
             );
         }
         Run::Done(Outcome::Panicked { message, location }) if must_panic => {
             if message.starts_with("not yet implemented") {
-                say!(log, Warn, "{function} panicked: {message}");
+                quote!(log, Warn, message.as_str(), "{function} panicked:");
                 say!(
                     log,
                     Detail,
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
             } else if message.to_lowercase().contains("triangle") {
-                say!(log, Info, "{function} panicked, as it must: {message}");
+                quote!(
+                    log,
+                    Info,
+                    message.as_str(),
+                    "{function} panicked, as it must:"
+                );
             } else {
-                say!(
+                quote!(
                     log,
                     Warn,
-                    "{function} panicked, but its message does not say a face is not a triangle: {message}"
+                    message.as_str(),
+                    "{function} panicked, but its message does not say a face is not a triangle:"
                 );
                 if let Some(loc) = location {
-                    say!(log, Detail, "at {loc}");
+                    quote!(log, Detail, loc.as_str(), "at");
                 }
                 say!(log, Detail, "check first: mesh.first_non_triangle() finds such a face; name it in the panic message");
             }
         }
         Run::Done(Outcome::Panicked { message, location }) => {
-            say!(log, Warn, "{function} panicked: {message}");
+            quote!(log, Warn, message.as_str(), "{function} panicked:");
             if let Some(loc) = location {
-                say!(log, Detail, "at {loc}");
+                quote!(log, Detail, loc.as_str(), "at");
             }
             if message.starts_with("not yet implemented") {
                 say!(

@@ -1577,11 +1577,9 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     }
 }
 
-fn first_warning(r: &CaseReport) -> Option<&str> {
-    r.entries
-        .iter()
-        .find(|e| e.level == Level::Warn)
-        .map(|e| e.text.as_str())
+/// The first warning as shown, student text in it escaped.
+fn first_warning_shown(r: &CaseReport) -> Option<String> {
+    crate::report::first_warning(r)
 }
 
 const STYLE: &str = r#"
@@ -1638,6 +1636,7 @@ svg.view .behind{opacity:.45}
 svg.view .labels{font:9px ui-monospace,Menlo,Consolas,monospace;fill:#1d2733;paint-order:stroke;stroke:#fff;stroke-width:2.5px;stroke-linejoin:round}
 svg.view .labels .red{fill:#c00000;font-weight:700}
 details.output pre{max-height:16em;overflow:auto;background:#f3f4f6;padding:6px}
+pre.quote{margin:2px 0;white-space:pre-wrap}
 "#;
 
 /// The legend, drawn with the pictures' own classes.
@@ -1676,8 +1675,8 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
         escape(&operation(f)),
         f.tolerance
     );
-    if let Some(w) = first_warning(r) {
-        let _ = writeln!(html, "<p class=\"verdict\">{}</p>", escape(w));
+    if let Some(w) = first_warning_shown(r) {
+        let _ = writeln!(html, "<p class=\"verdict\">{}</p>", escape(&w));
     }
     html.push_str("<ol>");
     for e in &r.entries {
@@ -1687,17 +1686,24 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
             Level::Detail if e.text.starts_with("hint:") => "detail hint",
             Level::Detail => "detail",
         };
-        let _ = write!(html, "<li class=\"{class}\">{}</li>", escape(&e.text));
+        let below = e.quote_below("");
+        let _ = write!(html, "<li class=\"{class}\">{}", escape(&e.one_line()));
+        if !below.is_empty() {
+            let _ = write!(html, "<pre class=\"quote\">{}</pre>", escape(&below));
+        }
+        html.push_str("</li>");
     }
     html.push_str("</ol>\n<p class=\"files\">OBJ files: ");
     for (what, name) in files {
         let _ = write!(html, "<a href=\"{0}\">{1}</a>", escape(name), what);
     }
     html.push_str("</p>\n");
-    if !r.output.is_empty() {
-        let lines = r.output.lines().count();
-        let mut shown: String = r.output.chars().take(OUTPUT_LIMIT).collect();
-        if shown.len() < r.output.len() {
+    if !r.output.is_blank() {
+        // Each line under `| `, control characters escaped, as everywhere.
+        let all = r.output.block("");
+        let lines = all.lines().count();
+        let mut shown: String = all.chars().take(OUTPUT_LIMIT).collect();
+        if shown.len() < all.len() {
             shown.push_str("\n… (cut)");
         }
         let _ = writeln!(
@@ -1777,12 +1783,13 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
                 html.push_str("</td>");
             }
             None if k == views[0].0 => {
-                let why = first_warning(r).unwrap_or("the function did not return a mesh");
+                let why = first_warning_shown(r)
+                    .unwrap_or_else(|| "the function did not return a mesh".to_string());
                 let _ = write!(
                     html,
                     "<td class=\"yours none\" rowspan=\"{}\">no mesh to show:<br>{}</td>",
                     views.len(),
-                    escape(why)
+                    escape(&why)
                 );
             }
             None => {}
@@ -1847,7 +1854,7 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
             "<tr class=\"{verdict}\"><td><span class=\"badge {verdict}\">{verdict}</span>{bonus}</td><td><a href=\"#case-{0}\">{0}</a></td><td>{1}</td><td>{2}</td></tr>",
             escape(&f.name),
             escape(&operation(f)),
-            escape(first_warning(r).unwrap_or(""))
+            escape(&first_warning_shown(r).unwrap_or_default())
         );
         case_html(&mut body, f, r, &files);
     }
@@ -1915,10 +1922,12 @@ mod tests {
             entries: vec![Entry {
                 level: Level::Warn,
                 text: text.to_string(),
+                quote: None,
                 file: file!(),
                 line: line!(),
             }],
-            output: "printed <b>\n".repeat(2000),
+            output: crate::quoted::Quoted::new("printed <b>\n".repeat(2000)),
+            timed_out: false,
             input: f.input.to_mesh().ok(),
             result,
         }

@@ -36,20 +36,28 @@ fn log_line(out: &mut String, file: &str, line: u32, warn: bool, text: &str, col
 fn render_case(out: &mut String, case: &CaseReport, color: bool) {
     for (i, e) in case.entries.iter().enumerate() {
         match e.level {
-            Level::Info => log_line(out, e.file, e.line, false, &e.text, color),
-            Level::Warn => log_line(out, e.file, e.line, true, &e.text, color),
+            Level::Info => log_line(out, e.file, e.line, false, &e.one_line(), color),
+            Level::Warn => log_line(out, e.file, e.line, true, &e.one_line(), color),
             Level::Detail => {
-                let _ = writeln!(out, "        {}", e.text);
+                let _ = writeln!(out, "        {}", e.one_line());
             }
         }
+        out.push_str(&e.quote_below("        "));
         // The student's output goes right under "start testing", where it ran.
-        if i == 0 && !case.output.trim().is_empty() {
+        if i == 0 && !case.output.is_blank() {
             let _ = writeln!(out, "    your code printed:");
-            for l in case.output.trim_end().lines() {
-                let _ = writeln!(out, "    | {l}");
-            }
+            out.push_str(&case.output.block("    "));
         }
     }
+}
+
+/// A failed case's first warning on one line (student text in it escaped
+/// and cut), as the summary, JSON and the class reports show it.
+pub fn first_warning(case: &CaseReport) -> Option<String> {
+    case.entries
+        .iter()
+        .find(|e| e.level == Level::Warn)
+        .map(|e| e.one_line())
 }
 
 /// How the text report is shown.
@@ -70,6 +78,8 @@ pub struct TextOptions {
     pub partial: Option<String>,
     /// Where `--report` wrote its index.html, said above the verdict.
     pub report: Option<String>,
+    /// The per-call limit, when `--budget` shortened it.
+    pub time: Option<String>,
 }
 
 /// At most this many failing cases are listed in the summary.
@@ -84,6 +94,9 @@ pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
     let color = opts.color;
     let mut out = String::new();
     log_line(&mut out, file!(), line!(), false, &opts.protections, color);
+    if let Some(time) = &opts.time {
+        log_line(&mut out, file!(), line!(), false, time, color);
+    }
     let (main, extra): (Vec<_>, Vec<_>) = cases.iter().partition(|c| c.group != Group::Bonus);
     if !opts.quiet {
         for case in &main {
@@ -156,15 +169,9 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         .filter(|c| !c.passed && counts(c, opts.bonus))
         .collect();
     // Cases that failed with the same first warning share one line.
-    let first_warning = |c: &CaseReport| -> String {
-        c.entries
-            .iter()
-            .find(|e| e.level == Level::Warn)
-            .map_or("failed".to_string(), |e| e.text.clone())
-    };
     let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
     for c in &failed {
-        let text = first_warning(c);
+        let text = first_warning(c).unwrap_or_else(|| "failed".to_string());
         match groups.iter_mut().find(|(t, _)| *t == text) {
             Some((_, names)) => names.push(&c.name),
             None => groups.push((text, vec![&c.name])),
@@ -251,16 +258,36 @@ struct JsonReport<'a> {
     passed: bool,
     bonus_counted: bool,
     protections: &'a str,
-    cases: &'a [CaseReport],
+    /// The runs and the per-call limit they were given.
+    plan: &'a crate::Plan,
+    cases: Vec<JsonCase<'a>>,
 }
 
-/// The report as JSON, for scripts.
-pub fn json(cases: &[CaseReport], bonus: bool, protections: &str) -> String {
+/// A case in JSON: its report, and its first warning on one line, ready
+/// to show (student text in it escaped).
+#[derive(Serialize)]
+struct JsonCase<'a> {
+    #[serde(flatten)]
+    case: &'a CaseReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    first_warning: Option<String>,
+}
+
+/// The report as JSON, for scripts. Student text (`output`, an entry's
+/// `quote`) is a list of escaped lines; `text` is the grader's words only.
+pub fn json(cases: &[CaseReport], bonus: bool, protections: &str, plan: &crate::Plan) -> String {
     serde_json::to_string_pretty(&JsonReport {
         passed: all_passed(cases, bonus),
         bonus_counted: bonus,
         protections,
-        cases,
+        plan,
+        cases: cases
+            .iter()
+            .map(|case| JsonCase {
+                case,
+                first_warning: first_warning(case),
+            })
+            .collect(),
     })
     .expect("reports serialize")
 }
@@ -289,10 +316,11 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
         let mut lines: Vec<String> = Vec::new();
         for e in &c.entries {
             match e.level {
-                Level::Info => {}
-                Level::Warn => lines.push(format!("[warn] {}", e.text)),
-                Level::Detail => lines.push(format!("    {}", e.text)),
+                Level::Info => continue,
+                Level::Warn => lines.push(format!("[warn] {}", e.one_line())),
+                Level::Detail => lines.push(format!("    {}", e.one_line())),
             }
+            lines.extend(e.quote_below("    ").lines().map(str::to_string));
         }
         if lines.len() > GRADESCOPE_REPORT_LINES {
             let more = lines.len() - GRADESCOPE_REPORT_LINES;
@@ -307,19 +335,9 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
         } else {
             lines.join("\n") + "\n"
         };
-        let printed: Vec<&str> = c.output.trim_end().lines().collect();
-        if !c.output.trim().is_empty() {
+        if !c.output.is_blank() {
             output.push_str("your code printed:\n");
-            for l in printed.iter().take(GRADESCOPE_OUTPUT_LINES) {
-                let _ = writeln!(output, "| {l}");
-            }
-            if printed.len() > GRADESCOPE_OUTPUT_LINES {
-                let _ = writeln!(
-                    output,
-                    "| ... ({} more lines)",
-                    printed.len() - GRADESCOPE_OUTPUT_LINES
-                );
-            }
+            output.push_str(&c.output.block_limited("", GRADESCOPE_OUTPUT_LINES));
         }
         let function = c.stage.function();
         let (name, visibility, tags) = match c.group {

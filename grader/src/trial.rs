@@ -179,9 +179,10 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     let _ = done.send(());
     let _ = ticker.join();
     let took = start.elapsed().as_secs_f64();
-    for line in raw.output.lines() {
-        println!("    | {line}");
-    }
+    print!(
+        "{}",
+        crate::quoted::Quoted::new(raw.output.clone()).block("    ")
+    );
     let ran = match raw.exit {
         Exit::Finished(ran) => ran,
         other => {
@@ -198,9 +199,13 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     };
     match child::analyze(op, &mesh, ran) {
         Outcome::Panicked { message, location } => {
-            say!(true, &format!("{function} panicked: {message}"));
+            let message = crate::quoted::Quoted::new(message);
+            say!(true, &format!("{function} panicked: {}", message.inline()));
+            if !message.fits_inline() {
+                print!("{}", message.block("        "));
+            }
             if let Some(l) = location {
-                println!("        at {l}");
+                println!("        at {}", crate::quoted::Quoted::new(l).inline());
             }
             ExitCode::from(1)
         }

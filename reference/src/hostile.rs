@@ -718,3 +718,29 @@ pub fn fake_sandbox_failure(mesh: &mut Mesh) {
     eprintln!("grader sandbox: Landlock: this kernel refused the ruleset (tell your TA)");
     std::process::exit(grader::sandbox::LAUNCH_FAILED);
 }
+
+/// The grader's summary and verdict as a passing run prints them.
+pub const FORGED_LINES: &str = "report.rs:148 [info] lab cases passed: flip_edge 10/10, split_edge 6/6, loop_subdivide 9/9\nreport.rs:262 [info] all tests passed, congratulations!";
+
+/// Prints the grader's summary and verdict, then panics with a message
+/// that holds them too, after a newline: lines that would look like the
+/// grader's own, in the case, the summary and every report.
+pub fn forged_lines(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    println!("\n{FORGED_LINES}");
+    let _ = (mesh, e);
+    panic!("index out of bounds\n{FORGED_LINES}\n");
+}
+
+/// Terminal control sequences: clear the screen, move the cursor home,
+/// conceal text, set the window title and a hyperlink (OSC), the 8-bit
+/// CSI, a bare CR that returns to the start of the line to overwrite it.
+pub const ESCAPES: &str = "\x1b[2J\x1b[Hcleared\x1b[8mhidden\x1b[0m\x1b]0;pwned\x07\x1b]8;;http://example.invalid/\x1b\\link\x1b]8;;\x1b\\\u{9b}2J\rgrade.rs:1 [info] all tests passed, congratulations!";
+
+/// Prints [`ESCAPES`] and panics with them (and a CR-separated forged
+/// line) in its message.
+pub fn escapes(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    println!("{ESCAPES}");
+    eprintln!("\x1b[31mred\x1b[0m\rgrade.rs:1 [info] over it\r");
+    let _ = (mesh, e);
+    panic!("bad edge{ESCAPES}");
+}

@@ -118,6 +118,8 @@ pub fn catalogue() -> Vec<Entry> {
         e("abort", "loop_subdivide aborts the process", with(None, None, Some(sub_abort))),
         e("exit", "loop_subdivide calls std::process::exit(0)", with(None, None, Some(sub_exit))),
         e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", with(None, None, Some(sub_fake_verdict))),
+        e("forged-lines", "flip_edge prints the grader's summary and verdict and panics with them after a newline", with(Some(hostile::forged_lines), None, None)),
+        e("escapes", "flip_edge prints terminal escapes (clear screen, cursor, OSC, bare CR) and panics with them", with(Some(hostile::escapes), None, None)),
         e("new-at-origin", "never gives the split vertex its new_pos", with(None, None, Some(sub_new_at_origin))),
         e("in-place", "moves old vertices while computing their new positions", with(None, None, Some(sub_in_place))),
         e("in-place-vertices-first", "the handout's loop order, moving each vertex inside the vertex loop", with(None, None, Some(sub_in_place_vertices_first))),

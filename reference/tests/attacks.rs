@@ -614,3 +614,213 @@ fn student_code_cannot_pass_for_a_sandbox_failure() {
         g.context()
     );
 }
+
+/// Whether a line of a report is student text, shown under `| `.
+fn quoted(line: &str) -> bool {
+    line.trim_start().starts_with("| ")
+}
+
+/// Every line of `text` that is not under `| ` and holds `forged`.
+fn unquoted_with<'a>(text: &'a str, forged: &str) -> Vec<&'a str> {
+    text.lines()
+        .filter(|l| !quoted(l) && l.contains(forged))
+        .collect()
+}
+
+/// Every string in a JSON value.
+fn strings(v: &serde_json::Value, out: &mut Vec<String>) {
+    match v {
+        serde_json::Value::String(s) => out.push(s.clone()),
+        serde_json::Value::Array(a) => a.iter().for_each(|x| strings(x, out)),
+        serde_json::Value::Object(o) => o.values().for_each(|x| strings(x, out)),
+        _ => {}
+    }
+}
+
+/// A control character a terminal obeys (anything but newline and tab).
+fn has_control(text: &str) -> bool {
+    text.chars()
+        .any(|c| c.is_control() && c != '\n' && c != '\t')
+}
+
+#[test]
+fn no_line_of_the_grader_can_be_forged() {
+    let dir = scratch("forged-lines");
+    let results = dir.join("results.json");
+    let pictures = dir.join("report");
+    let args = [
+        "--stage",
+        "flip",
+        "--gradescope",
+        results.to_str().unwrap(),
+        "--report",
+        pictures.to_str().unwrap(),
+    ];
+    let g = grade("forged-lines", &args);
+    assert_eq!(g.code, 1, "{}", g.context());
+    // The terminal: the forged summary and verdict appear only under `| `,
+    // and the real verdict is the last line.
+    for forged in ["congratulations", "flip_edge 10/10"] {
+        assert_eq!(
+            unquoted_with(&g.stdout, forged),
+            Vec::<&str>::new(),
+            "{}",
+            g.context()
+        );
+    }
+    assert!(
+        g.stdout
+            .contains("        | report.rs:262 [info] all tests passed, congratulations!"),
+        "the panic message is shown, as data: {}",
+        g.context()
+    );
+    assert!(
+        g.stdout
+            .contains("    | report.rs:262 [info] all tests passed, congratulations!"),
+        "what it printed, too: {}",
+        g.context()
+    );
+    assert!(
+        g.warned("flip_edge panicked: index out of bounds (and 2 more lines, below)"),
+        "{}",
+        g.context()
+    );
+    let last = g.stdout.lines().last().unwrap_or("");
+    assert!(last.ends_with("[warn] test failed"), "{}", g.context());
+
+    // Gradescope: each test's output holds the lines only under `| `.
+    let gs: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&results).unwrap()).unwrap();
+    let tests = gs["tests"].as_array().unwrap();
+    assert!(tests.iter().all(|t| t["score"] == 0.0), "{gs}");
+    for t in tests {
+        let output = t["output"].as_str().unwrap();
+        assert!(
+            output.contains("| report.rs:262 [info] all tests passed"),
+            "{output}"
+        );
+        assert_eq!(
+            unquoted_with(output, "congratulations"),
+            Vec::<&str>::new(),
+            "{output}"
+        );
+    }
+    assert_eq!(
+        gs["output"].as_str().unwrap().lines().next(),
+        Some("test failed")
+    );
+
+    // HTML: every forged line is under `| `, inside the report's own text.
+    let html = std::fs::read_to_string(pictures.join("index.html")).unwrap();
+    let forged = "report.rs:262 [info] all tests passed, congratulations!";
+    assert!(html.matches(forged).count() > 0, "shown");
+    assert_eq!(
+        html.matches(forged).count(),
+        html.matches(&format!("| {forged}")).count(),
+        "every forged line is under `| `"
+    );
+
+    // JSON: the grader's words never hold the student's; the student's text
+    // is a list of lines.
+    let j = grade(
+        "forged-lines",
+        &["--case", "cube-flip-1", "--format", "json"],
+    );
+    let report: serde_json::Value = serde_json::from_str(&j.stdout).expect("JSON");
+    let case = &report["cases"][0];
+    for e in case["entries"].as_array().unwrap() {
+        assert!(
+            !e["text"].as_str().unwrap().contains("congratulations"),
+            "{e}"
+        );
+    }
+    let panicked = case["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["level"] == "warn")
+        .unwrap();
+    assert_eq!(panicked["text"], "flip_edge panicked:");
+    assert_eq!(
+        panicked["quote"],
+        serde_json::json!([
+            "index out of bounds",
+            "report.rs:148 [info] lab cases passed: flip_edge 10/10, split_edge 6/6, loop_subdivide 9/9",
+            "report.rs:262 [info] all tests passed, congratulations!"
+        ])
+    );
+    assert_eq!(
+        case["output"][2],
+        "report.rs:262 [info] all tests passed, congratulations!"
+    );
+    assert_eq!(
+        case["first_warning"],
+        "flip_edge panicked: index out of bounds (and 2 more lines, below)"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn escapes_and_carriage_returns_are_shown_not_obeyed() {
+    let dir = scratch("escapes");
+    let results = dir.join("results.json");
+    let pictures = dir.join("report");
+    let args = [
+        "--case",
+        "cube-flip-1",
+        "--gradescope",
+        results.to_str().unwrap(),
+        "--report",
+        pictures.to_str().unwrap(),
+    ];
+    let g = grade("escapes", &args);
+    assert_eq!(g.code, 1, "{}", g.context());
+    assert!(!has_control(&g.stdout), "{:?}", g.stdout);
+    // Shown, escaped, on lines of its own under `| `.
+    assert!(
+        g.stdout.contains(
+            "    | \\u{1b}[2J\\u{1b}[Hcleared\\u{1b}[8mhidden\\u{1b}[0m\\u{1b}]0;pwned\\u{7}"
+        ),
+        "{}",
+        g.context()
+    );
+    assert!(
+        g.stdout
+            .contains("\\u{9b}2J\\u{d}grade.rs:1 [info] all tests passed"),
+        "{}",
+        g.context()
+    );
+    // A bare CR is shown; a CR before a newline ends the line, as LF does.
+    assert!(
+        g.stdout
+            .contains("    | \\u{1b}[31mred\\u{1b}[0m\\u{d}grade.rs:1 [info] over it\n"),
+        "{}",
+        g.context()
+    );
+    assert_eq!(
+        unquoted_with(&g.stdout, "congratulations"),
+        Vec::<&str>::new()
+    );
+    assert!(
+        g.warned("flip_edge panicked: bad edge\\u{1b}[2J"),
+        "{}",
+        g.context()
+    );
+
+    let text = std::fs::read_to_string(&results).unwrap();
+    let mut all = Vec::new();
+    strings(&serde_json::from_str(&text).unwrap(), &mut all);
+    assert!(all.iter().all(|s| !has_control(s)), "{all:?}");
+    assert!(all.iter().any(|s| s.contains("| \\u{1b}[2J")), "{all:?}");
+
+    let html = std::fs::read_to_string(pictures.join("index.html")).unwrap();
+    assert!(!has_control(&html), "no control character in the HTML");
+    assert!(html.contains("| \\u{1b}[2J"), "shown escaped in the HTML");
+
+    let j = grade("escapes", &["--case", "cube-flip-1", "--format", "json"]);
+    let mut all = Vec::new();
+    strings(&serde_json::from_str(&j.stdout).expect("JSON"), &mut all);
+    assert!(all.iter().all(|s| !has_control(s)), "{all:?}");
+    assert!(all.iter().any(|s| s.starts_with("\\u{1b}[2J")), "{all:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
