@@ -1930,6 +1930,7 @@ mod tests {
             timed_out: false,
             input: f.input.to_mesh().ok(),
             result,
+            hint: None,
         }
     }
 

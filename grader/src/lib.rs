@@ -736,6 +736,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                 quiet: cli.quiet,
                 partial: partial_run(cli),
                 report: report_path.as_ref().map(|p| p.display().to_string()),
+                focus: cli.case.clone(),
                 time: time_line,
             },
         ),

@@ -78,6 +78,9 @@ pub struct TextOptions {
     pub partial: Option<String>,
     /// Where `--report` wrote its index.html, said above the verdict.
     pub report: Option<String>,
+    /// The case the run was limited to (`--case NAME`): `next:` never
+    /// suggests the command just run.
+    pub focus: Option<String>,
     /// The per-call limit, when `--budget` shortened it.
     pub time: Option<String>,
 }
@@ -205,6 +208,31 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             color,
         );
     }
+    // Each hint once, under the failures, in its own words: where students
+    // read, not only above under its case.
+    let mut hints: Vec<(&str, Vec<&str>)> = Vec::new();
+    for c in &failed {
+        if let Some(h) = &c.hint {
+            match hints.iter_mut().find(|(t, _)| *t == h.as_str()) {
+                Some((_, names)) => names.push(&c.name),
+                None => hints.push((h, vec![&c.name])),
+            }
+        }
+    }
+    for (hint, names) in hints.iter().take(SUMMARY_FAILURES) {
+        let who = match names.len() {
+            1 => names[0].to_string(),
+            n => format!("{} and {} more", names[0], n - 1),
+        };
+        log_line(
+            out,
+            file!(),
+            line!(),
+            false,
+            &format!("hint for {who}: {hint}"),
+            color,
+        );
+    }
     if let Some(index) = &opts.report {
         log_line(
             out,
@@ -216,18 +244,23 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         );
     }
     if let Some(first) = failed.first() {
-        log_line(
-            out,
-            file!(),
-            line!(),
-            false,
-            &format!(
-                "next: fix {} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
-                first.stage.function(),
+        let function = first.stage.function();
+        let next = match (&opts.focus, &opts.report) {
+            // Already that case alone with pictures: what to look at, then
+            // what to run once it is fixed.
+            (Some(case), Some(index)) if *case == first.name => format!(
+                "next: fix {function}, looking at the messages above and the pictures in {index}; \
+                 then run this command again, and `cargo run -p grader` for the whole lab"
+            ),
+            (Some(case), None) if *case == first.name => format!(
+                "next: fix {function}; to see the case, with pictures: cargo run -p grader -- --case {case} --report"
+            ),
+            _ => format!(
+                "next: fix {function} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
                 first.name
             ),
-            color,
-        );
+        };
+        log_line(out, file!(), line!(), false, &next, color);
         log_line(out, file!(), line!(), true, "test failed", color);
     } else if let Some(part) = &opts.partial {
         let n = cases.iter().filter(|c| counts(c, opts.bonus)).count();

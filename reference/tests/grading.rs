@@ -739,5 +739,75 @@ fn every_known_mistake_is_named_wherever_it_fails() {
             known.id,
             g.stdout
         );
+        // And in the summary, where students read.
+        let tail: Vec<&str> = g.stdout.lines().rev().take(12).collect();
+        assert!(
+            tail.iter()
+                .any(|l| l.contains("[info] hint for ") && l.ends_with(known.hint)),
+            "{}: the hint is not in the last lines:\n{}",
+            known.id,
+            tail.join("\n")
+        );
     }
+}
+
+#[test]
+fn quiet_keeps_the_hint_and_a_focused_run_says_what_to_do_next() {
+    let g = grade("in-place-vertices-first", &["-q"]);
+    assert_eq!(g.code, 1);
+    let hint = reference::mutants::subdivision_mistakes()
+        .into_iter()
+        .find(|m| m.id == "in-place-vertices-first")
+        .unwrap()
+        .hint;
+    assert!(
+        g.stdout
+            .lines()
+            .any(|l| l.contains("[info] hint for ") && l.ends_with(hint)),
+        "{}",
+        g.stdout
+    );
+    assert!(g.stdout.lines().count() <= 12, "{}", g.stdout);
+
+    // After --case X --report, next: names the pictures, not the same command.
+    let dir = common::scratch("focused");
+    let report = dir.join("report");
+    let g = grade(
+        "no-flip",
+        &[
+            "--case",
+            "cube-subdivide-1",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+    );
+    let next = g
+        .stdout
+        .lines()
+        .find(|l| l.contains("[info] next: "))
+        .unwrap_or_else(|| panic!("{}", g.stdout));
+    assert!(
+        !next.contains("cargo run -p grader -- --case cube-subdivide-1 --report"),
+        "{next}"
+    );
+    assert!(
+        next.contains(&report.join("index.html").display().to_string()),
+        "{next}"
+    );
+    assert!(next.contains("then run this command again"), "{next}");
+    let g = grade("no-flip", &["--case", "cube-subdivide-1"]);
+    let next = g
+        .stdout
+        .lines()
+        .find(|l| l.contains("[info] next: "))
+        .unwrap();
+    assert!(
+        next.ends_with("cargo run -p grader -- --case cube-subdivide-1 --report"),
+        "{next}"
+    );
+    assert!(
+        next.contains("next: fix loop_subdivide; to see the case"),
+        "{next}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
