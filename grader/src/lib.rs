@@ -551,7 +551,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     runner::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
-        drop_user: sandbox::runnable_by_others(&program.exe),
+        drop_user: true,
         landlock: !cli.without_landlock,
     };
     let reports = match grade_all(&cases, cli, program, &limits) {

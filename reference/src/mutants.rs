@@ -144,6 +144,12 @@ pub fn catalogue() -> Vec<Entry> {
         e("payload-drop-panics", "panics with a payload whose drop panics again", with(None, None, Some(hostile::payload_drop_panics))),
         e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
         e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
+        e("outlive-grader", "clears its parent-death signal and waits a minute in the call, to outlive a killed grader", with(None, None, Some(hostile::outlive_grader))),
+        e("prctl-undo", "tries the prctl options that undo protections (parent-death signal, dumpable, ptracer, keepcaps, subreaper), then makes the no-flip mistake", with(None, None, Some(hostile::prctl_undo))),
+        e("starve", "pins the grader to one CPU and puts it on SCHED_IDLE, then makes the no-flip mistake", with(None, None, Some(hostile::starve))),
+        e("watch-files", "watches /tmp, /etc and the hidden fixtures with inotify and fanotify, then makes the no-flip mistake", with(None, None, Some(hostile::watch_files))),
+        e("terminal", "stays in the grader's session and types a command into its terminal with TIOCSTI, then makes the no-flip mistake", with(None, None, Some(hostile::terminal))),
+        e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", with(None, None, Some(hostile::grader_memory))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
