@@ -61,6 +61,9 @@ pub struct Limits {
     /// Whether to apply Landlock (off only to test what a kernel without
     /// it leaves: the other protections must still hold).
     pub landlock: bool,
+    /// Whether to try a PID namespace (off only to test the fallback a
+    /// machine without them has: the sweep and the parent-death signals).
+    pub pid_namespace: bool,
 }
 
 impl Default for Limits {
@@ -69,6 +72,7 @@ impl Default for Limits {
             memory: 2 << 30,
             drop_user: true,
             landlock: true,
+            pid_namespace: true,
         }
     }
 }
@@ -87,7 +91,7 @@ pub fn format_bytes(bytes: u64) -> String {
 }
 
 /// The launcher's command line: `LAUNCH_ARG memory drop|keep
-/// landlock|nolandlock child args...`.
+/// landlock|nolandlock pidns|nopidns child args...`.
 pub fn launcher_args(limits: &Limits, child: &Path, child_args: &[OsString]) -> Vec<OsString> {
     let mut args: Vec<OsString> = vec![
         LAUNCH_ARG.into(),
@@ -97,6 +101,12 @@ pub fn launcher_args(limits: &Limits, child: &Path, child_args: &[OsString]) -> 
             "landlock"
         } else {
             "nolandlock"
+        }
+        .into(),
+        if limits.pid_namespace {
+            "pidns"
+        } else {
+            "nopidns"
         }
         .into(),
         child.as_os_str().to_owned(),
@@ -122,8 +132,11 @@ pub fn launch_if_asked() {
 }
 
 fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), String> {
-    let [memory, drop, landlock, child, rest @ ..] = args else {
-        return Err("the launcher needs: MEMORY drop|keep landlock|nolandlock CHILD [ARGS]".into());
+    let [memory, drop, landlock, pidns, child, rest @ ..] = args else {
+        return Err(
+            "the launcher needs: MEMORY drop|keep landlock|nolandlock pidns|nopidns CHILD [ARGS]"
+                .into(),
+        );
     };
     let memory = memory
         .to_str()
@@ -134,6 +147,7 @@ fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), S
             memory,
             drop_user: drop == "drop",
             landlock: landlock == "landlock",
+            pid_namespace: pidns == "pidns",
         },
         PathBuf::from(child),
         rest.to_vec(),
@@ -577,7 +591,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         // hold it.
         let program = std::fs::File::open(child)
             .map_err(|e| format!("cannot open {}: {e}", child.display()))?;
-        let namespace = enter_pid_namespace()?;
+        let namespace = limits.pid_namespace && enter_pid_namespace()?;
         // SAFETY: a plain prctl call. Grader code only here, but its memory
         // is nobody's business either. (After the user namespace's maps:
         // a process that is not dumpable cannot write its own.)
@@ -786,6 +800,7 @@ mod tests {
             memory: 123,
             drop_user: false,
             landlock: false,
+            pid_namespace: false,
         };
         let args = launcher_args(&limits, Path::new("/x/child"), &["a".into()]);
         let (l, c, rest) = parse_launch(&args[1..]).unwrap();

@@ -148,6 +148,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
         memory: cli.memory,
         drop_user: true,
         landlock: true,
+        pid_namespace: true,
     };
     let request = wire::Request {
         op,

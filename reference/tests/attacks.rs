@@ -650,8 +650,10 @@ fn a_case_dies_with_its_grader_even_if_it_clears_its_parent_death_signal() {
     use std::os::unix::process::CommandExt;
     let name = "outlive-grader";
     kill_survivors(name);
-    // As root (the child is nobody) and as an ordinary user.
-    for as_user in [false, true] {
+    // As root (the child is nobody) and as an ordinary user; in a PID
+    // namespace and, as on a machine without them, with only the
+    // parent-death signals.
+    for (as_user, namespace) in [(false, true), (true, true), (false, false), (true, false)] {
         if as_user && !is_root() {
             continue;
         }
@@ -663,6 +665,11 @@ fn a_case_dies_with_its_grader_even_if_it_clears_its_parent_death_signal() {
             .process_group(0)
             .args(["grade", "--implementation", name, "--no-color"])
             .args(["--case", "cube-subdivide-1", "--timeout", "120"])
+            .args(if namespace {
+                &[][..]
+            } else {
+                &["--without-pid-namespace"][..]
+            })
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
             .spawn()
@@ -678,8 +685,9 @@ fn a_case_dies_with_its_grader_even_if_it_clears_its_parent_death_signal() {
         wait_until(Duration::from_secs(10), || survivors(name).is_empty());
         let left = survivors(name);
         kill_survivors(name);
-        assert!(ready, "as user: {as_user}: the attack never got going");
-        assert_eq!(left, Vec::new(), "as user: {as_user}: outlived the grader");
+        let run = format!("as user: {as_user}, PID namespace: {namespace}");
+        assert!(ready, "{run}: the attack never got going");
+        assert_eq!(left, Vec::new(), "{run}: outlived the grader");
     }
 }
 
@@ -707,24 +715,37 @@ fn prctl_cannot_undo_a_protection() {
 
 #[test]
 fn other_processes_of_the_same_user_cannot_be_starved() {
-    // As the grader's own user: neither Landlock nor the uid stands in the way.
-    let g = grade_as_user("starve", &["--case", "cube-subdivide-1"]);
-    assert_no_flip_verdict(&g);
-    for what in [
-        "pin the grader to one CPU",
-        "put the grader on SCHED_IDLE with sched_setattr",
-        "put the grader on SCHED_IDLE with sched_setscheduler",
-        "change the grader's scheduling parameters",
-        "lower the grader's I/O priority",
+    // As the grader's own user: neither Landlock nor the uid stands in the
+    // way; then the filter alone (no PID namespace hides the grader).
+    for g in [
+        grade_as_user("starve", &["--case", "cube-subdivide-1"]),
+        grade_as_user(
+            "starve",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
     ] {
-        assert!(g.denied(what), "{what}: {}", g.context());
+        assert_no_flip_verdict(&g);
+        for what in [
+            "pin the grader to one CPU",
+            "put the grader on SCHED_IDLE with sched_setattr",
+            "put the grader on SCHED_IDLE with sched_setscheduler",
+            "change the grader's scheduling parameters",
+            "lower the grader's I/O priority",
+        ] {
+            assert!(g.denied(what), "{what}: {}", g.context());
+        }
+        assert!(
+            g.attack("pin itself to one CPU")
+                .is_some_and(|l| l.ends_with(": done")),
+            "{}",
+            g.context()
+        );
     }
-    assert!(
-        g.attack("pin itself to one CPU")
-            .is_some_and(|l| l.ends_with(": done")),
-        "{}",
-        g.context()
-    );
 }
 
 #[test]
@@ -753,6 +774,15 @@ fn the_child_has_a_session_and_a_process_group_of_its_own() {
         grade_as_user(
             "terminal",
             &["--case", "cube-subdivide-1", "--without-landlock"],
+        ),
+        grade_as_user(
+            "terminal",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
         ),
     ] {
         assert_no_flip_verdict(&g);
@@ -856,6 +886,16 @@ fn the_grader_s_memory_is_closed_with_or_without_landlock() {
             "grader-memory",
             &["--case", "cube-subdivide-1", "--without-landlock"],
         ),
+        // Not dumpable is what closes it here: nothing else stands in the way.
+        grade_as_user(
+            "grader-memory",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
     ];
     if is_root() {
         runs.push(grade(
@@ -881,21 +921,34 @@ fn the_grader_s_memory_is_closed_with_or_without_landlock() {
 #[test]
 fn the_grader_cannot_be_signalled_even_without_landlock() {
     // The grader's own user, no Landlock: the filter (signals only to
-    // itself) and the PID namespace, where there is one, must hold alone.
-    let g = grade_as_user(
-        "reach-parent",
-        &["--case", "cube-subdivide-1", "--without-landlock"],
-    );
-    assert_no_flip_verdict(&g);
-    for what in [
-        "SIGKILL the grader",
-        "SIGKILL the grader's process group",
-        "ptrace the grader",
-        "read the grader's memory",
-        "open the grader's /proc/PID/mem",
-        "make the grader the owner of a descriptor (F_SETOWN)",
+    // itself) and the PID namespace, where there is one, must hold alone;
+    // without the namespace, the filter alone.
+    for g in [
+        grade_as_user(
+            "reach-parent",
+            &["--case", "cube-subdivide-1", "--without-landlock"],
+        ),
+        grade_as_user(
+            "reach-parent",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
     ] {
-        assert!(g.denied(what), "{what}: {}", g.context());
+        assert_no_flip_verdict(&g);
+        for what in [
+            "SIGKILL the grader",
+            "SIGKILL the grader's process group",
+            "ptrace the grader",
+            "read the grader's memory",
+            "open the grader's /proc/PID/mem",
+            "make the grader the owner of a descriptor (F_SETOWN)",
+        ] {
+            assert!(g.denied(what), "{what}: {}", g.context());
+        }
     }
 }
 
@@ -944,9 +997,10 @@ fn the_protections_line_names_session_namespace_and_filter() {
             .lines()
             .find(|l| l.contains("[info] protections: "))
             .unwrap_or_else(|| panic!("no protections line:\n{}", g.context()));
-        assert!(line.contains("own session"), "{line}");
+        assert!(line.contains("own session (no terminal)"), "{line}");
+        // This machine has PID namespaces for root and for other users.
         assert!(
-            line.contains("own PID namespace") || line.contains("orphans swept"),
+            line.contains("own PID namespace (nothing outlives the case)"),
             "{line}"
         );
         assert!(line.contains("no capabilities"), "{line}");
@@ -956,4 +1010,14 @@ fn the_protections_line_names_session_namespace_and_filter() {
             "{line}"
         );
     }
+    let g = grade(
+        "reference",
+        &["--case", "cube-flip-1", "--without-pid-namespace"],
+    );
+    assert!(
+        g.stdout
+            .contains(", orphans swept (no PID namespace here),"),
+        "{}",
+        g.context()
+    );
 }
