@@ -204,7 +204,9 @@ pub fn serve(imp: &Implementation) -> ! {
     };
     let mut bytes = Vec::new();
     if let Err(e) = request.read_to_end(&mut bytes) {
-        eprintln!("grader child: cannot read the request: {e}");
+        eprintln!(
+            "grader child: cannot read the request ({e}): this program is started by the grader"
+        );
         std::process::exit(3);
     }
     drop(request);
