@@ -187,8 +187,11 @@ fn runnable_program(exe: &std::path::Path, limits: &Limits) -> Result<PathBuf, S
     }
     let fail = |e: &dyn std::fmt::Display| {
         format!(
-            "the child program {} may not be run by user nobody, and no copy that may              could be made ({e}); student code never runs as root: make the program              executable by others (chmod o+x) or grade as another user",
-            exe.display()
+            "the child program {} may not be run by user nobody, and no copy that may \
+             could be made in {} ({e}); student code never runs as root: make the \
+             program executable by others (chmod o+x) or grade as another user",
+            exe.display(),
+            std::env::temp_dir().display()
         )
     };
     use std::os::unix::fs::{DirBuilderExt, PermissionsExt};

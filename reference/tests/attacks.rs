@@ -967,12 +967,37 @@ fn a_child_program_nobody_may_run_is_still_run_as_nobody() {
     let exe = dir.join("reference");
     std::fs::copy(env!("CARGO_BIN_EXE_reference"), &exe).unwrap();
     std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o700)).unwrap();
+    // The private copies the grader makes (in a temporary folder of our own,
+    // so that no other grader's count), before and after.
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let copies = || std::fs::read_dir(&tmp).unwrap().count();
     let g = grade_with(
-        &mut Command::new(&exe),
+        Command::new(&exe).env("TMPDIR", &tmp),
+        "root-powers",
+        &["--case", "cube-subdivide-1", "--memory", "256M"],
+    );
+    let left = copies();
+    // Where no copy can be made, grading stops and says why: never as root.
+    let nowhere = grade_with(
+        Command::new(&exe).env("TMPDIR", dir.join("missing")),
         "root-powers",
         &["--case", "cube-subdivide-1", "--memory", "256M"],
     );
     std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(left, 0, "the private copy outlived the grader");
+    assert_eq!(nowhere.code, 2, "{}", nowhere.context());
+    assert!(
+        nowhere.stderr.contains("may not be run by user nobody")
+            && nowhere.stderr.contains("student code never runs as root"),
+        "{}",
+        nowhere.context()
+    );
+    assert!(
+        !nowhere.stdout.contains("| attack:"),
+        "{}",
+        nowhere.context()
+    );
     assert!(
         g.stdout.contains("| attack: running as user 65534"),
         "{}",
