@@ -388,6 +388,12 @@ mod filter {
             }
         }
 
+        /// An ioctl request as a call argument (its type differs by C library).
+        #[allow(clippy::unnecessary_cast)]
+        fn request(r: libc::Ioctl) -> u64 {
+            r as u64
+        }
+
         fn allowed(nr: libc::c_long, args: [u64; 3]) -> bool {
             let v = verdict(nr, args);
             assert!(
@@ -411,7 +417,7 @@ mod filter {
             ));
             assert!(allowed(libc::SYS_tgkill, [own, 7, libc::SIGABRT as u64]));
             assert!(allowed(libc::SYS_kill, [own, libc::SIGABRT as u64, 0]));
-            assert!(allowed(libc::SYS_ioctl, [1, libc::TCGETS as u64, 0]));
+            assert!(allowed(libc::SYS_ioctl, [1, request(libc::TCGETS), 0]));
             assert!(allowed(libc::SYS_fcntl, [3, libc::F_GETFD as u64, 0]));
             for call in [
                 libc::SYS_sched_setaffinity,
@@ -436,8 +442,8 @@ mod filter {
             assert!(!allowed(libc::SYS_kill, [0, 9, 0]));
             assert!(!allowed(libc::SYS_kill, [u64::from(u32::MAX), 9, 0]));
             assert!(!allowed(libc::SYS_tgkill, [other, 1, 9]));
-            assert!(!allowed(libc::SYS_ioctl, [0, libc::TIOCSTI as u64, 0]));
-            assert!(!allowed(libc::SYS_ioctl, [0, libc::TIOCLINUX as u64, 0]));
+            assert!(!allowed(libc::SYS_ioctl, [0, request(libc::TIOCSTI), 0]));
+            assert!(!allowed(libc::SYS_ioctl, [0, request(libc::TIOCLINUX), 0]));
             assert!(!allowed(libc::SYS_fcntl, [3, libc::F_SETOWN as u64, 0]));
             for call in [
                 libc::SYS_inotify_init1,
