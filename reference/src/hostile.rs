@@ -1096,3 +1096,119 @@ pub fn grader_memory(mesh: &mut Mesh) {
     let _ = std::io::stdout().flush();
     crate::mutants::no_flip(mesh);
 }
+
+/// Tries the other calls that reach past the case, each harmless if it
+/// got through (arguments that change nothing): a pidfd of the grader and
+/// a signal 0 through it, `kcmp` with the grader, a file handle, a mount,
+/// `personality`, `acct`, `swapon`, `reboot` with a wrong magic number,
+/// `process_vm_writev` of nothing, `perf_event_open`, `userfaultfd`, a key.
+/// Then makes the no-flip mistake.
+pub fn kernel_calls(mesh: &mut Mesh) {
+    // SAFETY: raw system calls whose pointers are null or our own buffers,
+    // with arguments that make none of them change anything.
+    unsafe {
+        let call = |nr: libc::c_long, a: [libc::c_long; 5]| {
+            sys_result(libc::syscall(nr, a[0], a[1], a[2], a[3], a[4]))
+        };
+        let pidfd = grader_pid().map_or(-1, |p| libc::syscall(libc::SYS_pidfd_open, p, 0));
+        report("open a pidfd of the grader", sys_result(pidfd));
+        report(
+            "signal the grader through a pidfd (signal 0)",
+            if pidfd >= 0 {
+                call(libc::SYS_pidfd_send_signal, [pidfd, 0, 0, 0, 0])
+            } else {
+                Err(std::io::Error::from_raw_os_error(libc::EBADF))
+            },
+        );
+        report(
+            "take a descriptor of the grader's (pidfd_getfd)",
+            if pidfd >= 0 {
+                call(libc::SYS_pidfd_getfd, [pidfd, 0, 0, 0, 0])
+            } else {
+                Err(std::io::Error::from_raw_os_error(libc::EBADF))
+            },
+        );
+        report(
+            "compare its files with the grader's (kcmp)",
+            on_grader(|p| libc::syscall(libc::SYS_kcmp, libc::getpid(), p, 0, 0, 0)),
+        );
+        let mut handle = [0u8; 136];
+        handle[..4].copy_from_slice(&128u32.to_ne_bytes());
+        let mut mount_id = 0i32;
+        report(
+            "make a file handle of /etc/passwd",
+            sys_result(libc::syscall(
+                libc::SYS_name_to_handle_at,
+                libc::AT_FDCWD,
+                c"/etc/passwd".as_ptr(),
+                handle.as_mut_ptr(),
+                &mut mount_id,
+                0,
+            )),
+        );
+        report(
+            "open by file handle",
+            call(
+                libc::SYS_open_by_handle_at,
+                [
+                    libc::AT_FDCWD as libc::c_long,
+                    handle.as_ptr() as libc::c_long,
+                    0,
+                    0,
+                    0,
+                ],
+            ),
+        );
+        report("mount", call(libc::SYS_mount, [0, 0, 0, 0, 0]));
+        // 0xffffffff only asks for the current personality.
+        report(
+            "change its personality",
+            call(libc::SYS_personality, [0xffff_ffff, 0, 0, 0, 0]),
+        );
+        report(
+            "turn process accounting",
+            call(
+                libc::SYS_acct,
+                [c"/nonexistent".as_ptr() as libc::c_long, 0, 0, 0, 0],
+            ),
+        );
+        report(
+            "add swap",
+            call(
+                libc::SYS_swapon,
+                [c"/nonexistent".as_ptr() as libc::c_long, 0, 0, 0, 0],
+            ),
+        );
+        report(
+            "reboot (a wrong magic number)",
+            call(libc::SYS_reboot, [0, 0, 0, 0, 0]),
+        );
+        report(
+            "write another process's memory (process_vm_writev of nothing)",
+            on_grader(|p| libc::syscall(libc::SYS_process_vm_writev, p, 0, 0, 0, 0, 0)),
+        );
+        report(
+            "open a performance counter",
+            call(libc::SYS_perf_event_open, [0, 0, -1, -1, 0]),
+        );
+        report(
+            "make a userfaultfd",
+            call(libc::SYS_userfaultfd, [0, 0, 0, 0, 0]),
+        );
+        report(
+            "add a key to a keyring",
+            call(
+                libc::SYS_add_key,
+                [
+                    c"user".as_ptr() as libc::c_long,
+                    c"meshlab".as_ptr() as libc::c_long,
+                    0,
+                    0,
+                    -2,
+                ],
+            ),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}

@@ -150,6 +150,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("watch-files", "watches /tmp, /etc and the hidden fixtures with inotify and fanotify, then makes the no-flip mistake", with(None, None, Some(hostile::watch_files))),
         e("terminal", "stays in the grader's session and types a command into its terminal with TIOCSTI, then makes the no-flip mistake", with(None, None, Some(hostile::terminal))),
         e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", with(None, None, Some(hostile::grader_memory))),
+        e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", with(None, None, Some(hostile::kernel_calls))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]

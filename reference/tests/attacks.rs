@@ -1046,3 +1046,57 @@ fn the_protections_line_names_session_namespace_and_filter() {
         g.context()
     );
 }
+
+#[test]
+fn the_calls_that_reach_past_the_case_are_refused_by_the_filter() {
+    // As the grader's own user, with Landlock and, as on a machine with
+    // neither, without Landlock or a PID namespace: each refused by the
+    // filter itself (EPERM), not only by a missing privilege.
+    for g in [
+        grade_as_user("kernel-calls", &["--case", "cube-subdivide-1"]),
+        grade_as_user(
+            "kernel-calls",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
+    ] {
+        assert_no_flip_verdict(&g);
+        for what in [
+            "open a pidfd of the grader",
+            "compare its files with the grader's (kcmp)",
+            "make a file handle of /etc/passwd",
+            "open by file handle",
+            "mount",
+            "change its personality",
+            "turn process accounting",
+            "add swap",
+            "reboot (a wrong magic number)",
+            "write another process's memory (process_vm_writev of nothing)",
+            "open a performance counter",
+            "make a userfaultfd",
+            "add a key to a keyring",
+        ] {
+            assert!(
+                g.attack(what)
+                    .is_some_and(|l| l.ends_with(": denied (permission denied)")),
+                "{what}: {}",
+                g.context()
+            );
+        }
+        // Without a pidfd there is nothing to signal or take through.
+        assert!(
+            g.denied("signal the grader through a pidfd (signal 0)"),
+            "{}",
+            g.context()
+        );
+        assert!(
+            g.denied("take a descriptor of the grader's (pidfd_getfd)"),
+            "{}",
+            g.context()
+        );
+    }
+}
