@@ -357,28 +357,66 @@ fn let_go_of_pipes() {
 /// orphans is then the only catch.
 #[cfg(target_os = "linux")]
 fn enter_pid_namespace() -> Result<bool, String> {
+    use std::ffi::CString;
     // SAFETY: plain system calls; the launcher has one thread.
     let (uid, gid) = unsafe {
         if libc::unshare(libc::CLONE_NEWPID) == 0 {
             return Ok(true);
         }
-        let (uid, gid) = (libc::getuid(), libc::getgid());
-        // Root that may not make a PID namespace (some containers) would
-        // map only itself in a user namespace, where `nobody` does not
-        // exist: it keeps the sweep instead.
-        if uid == 0 || libc::unshare(libc::CLONE_NEWUSER | libc::CLONE_NEWPID) != 0 {
-            return Ok(false);
-        }
-        (uid, gid)
+        (libc::getuid(), libc::getgid())
     };
-    let write = |file: &str, text: String| {
-        std::fs::write(format!("/proc/self/{file}"), text)
-            .map_err(|e| format!("user namespace: cannot write /proc/self/{file}: {e}"))
-    };
+    // Root that may not make a PID namespace (some containers) would map
+    // only itself in a user namespace, where `nobody` does not exist: it
+    // keeps the sweep instead.
+    if uid == 0 {
+        return Ok(false);
+    }
     // Only this user and group, as themselves: never root inside.
-    write("setgroups", "deny".into())?;
-    write("uid_map", format!("{uid} {uid} 1\n"))?;
-    write("gid_map", format!("{gid} {gid} 1\n"))?;
+    let maps: Vec<(CString, CString)> = [
+        ("setgroups", "deny".to_string()),
+        ("uid_map", format!("{uid} {uid} 1\n")),
+        ("gid_map", format!("{gid} {gid} 1\n")),
+    ]
+    .into_iter()
+    .map(|(file, text)| {
+        let path = CString::new(format!("/proc/self/{file}")).unwrap_or_default();
+        (path, CString::new(text).unwrap_or_default())
+    })
+    .collect();
+    // System calls only: also run in a forked process.
+    let write_maps = || {
+        maps.iter().all(|(path, text)| {
+            // SAFETY: plain system calls on C strings we own.
+            unsafe {
+                let fd = libc::open(path.as_ptr(), libc::O_WRONLY | libc::O_CLOEXEC);
+                let len = text.as_bytes().len();
+                let ok = fd >= 0 && libc::write(fd, text.as_ptr().cast(), len) == len as isize;
+                if fd >= 0 {
+                    libc::close(fd);
+                }
+                ok
+            }
+        })
+    };
+    let flags = libc::CLONE_NEWUSER | libc::CLONE_NEWPID;
+    // Tried first in a throwaway process: where the kernel lets a user
+    // namespace be made but not mapped (Ubuntu's AppArmor restriction), the
+    // launcher itself must not be left in one.
+    let probe = fork()?;
+    if probe == 0 {
+        // SAFETY: plain system calls; this process ends here.
+        unsafe {
+            let ok = libc::unshare(flags) == 0 && write_maps();
+            libc::_exit(if ok { 0 } else { 1 });
+        }
+    }
+    if wait_for(probe) != Some(0) {
+        return Ok(false);
+    }
+    // SAFETY: a plain system call; the launcher has one thread.
+    if unsafe { libc::unshare(flags) } != 0 || !write_maps() {
+        return Err(os_error("cannot map its user in a user namespace"));
+    }
     Ok(true)
 }
 
