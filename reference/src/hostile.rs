@@ -971,12 +971,22 @@ pub fn watch_files(mesh: &mut Mesh) {
 /// What the `terminal` attack types into the terminal.
 pub const TYPED: &str = "echo meshlab-typed-by-student\n";
 
-/// Reaches for the terminal the grader runs in: whether it shares the
-/// grader's session, leaving its process group, opening `/dev/tty` and
+/// Reaches for the terminal the grader runs in: whether its stdin is
+/// anything but `/dev/null`, whether it shares the grader's session, leaving its process group, opening `/dev/tty` and
 /// typing [`TYPED`] into it with `TIOCSTI` (as root, run after the grader
 /// exits), the same through its standard descriptors, and `TIOCLINUX`.
 /// Then makes the no-flip mistake.
 pub fn terminal(mesh: &mut Mesh) {
+    report(
+        "hold something other than /dev/null on stdin",
+        match std::fs::read_link("/proc/self/fd/0") {
+            Ok(p) if p == std::path::Path::new("/dev/null") => {
+                Err(std::io::Error::other("stdin is /dev/null"))
+            }
+            Ok(_) => Ok(()),
+            Err(e) => Err(e),
+        },
+    );
     // SAFETY: plain system calls; the bytes typed are our own.
     unsafe {
         let mine = libc::getsid(0);

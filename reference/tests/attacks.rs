@@ -768,7 +768,7 @@ fn no_file_can_be_watched() {
 }
 
 #[test]
-fn the_child_has_a_session_and_a_process_group_of_its_own() {
+fn the_child_has_its_own_session_and_group_and_dev_null_on_stdin() {
     for g in [
         grade("terminal", &["--case", "cube-subdivide-1"]),
         grade_as_user(
@@ -787,6 +787,7 @@ fn the_child_has_a_session_and_a_process_group_of_its_own() {
     ] {
         assert_no_flip_verdict(&g);
         for what in [
+            "hold something other than /dev/null on stdin",
             "stay in the grader's session",
             "leave its process group",
             "start a session of its own",
