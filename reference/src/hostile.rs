@@ -697,10 +697,28 @@ pub fn huge_mesh(mesh: &mut Mesh) {
     *mesh = Mesh::from_records(v, e, f, halfedges);
 }
 
-/// Uses whatever privileges the child kept: reports its user, lifts its
+/// Uses whatever privileges the child kept: reports whether it holds a
+/// capability (effective or permitted) and its user, lifts its
 /// own memory cap (which only `CAP_SYS_RESOURCE` may do), then touches
 /// 400 MiB and subdivides correctly.
 pub fn root_powers(mesh: &mut Mesh) {
+    let caps = std::fs::read_to_string("/proc/self/status").map(|status| {
+        status
+            .lines()
+            .filter_map(|l| {
+                l.strip_prefix("CapEff:")
+                    .or_else(|| l.strip_prefix("CapPrm:"))
+            })
+            .any(|v| u64::from_str_radix(v.trim(), 16).is_ok_and(|c| c != 0))
+    });
+    report(
+        "hold a capability",
+        match caps {
+            Ok(true) => Ok(()),
+            Ok(false) => Err(std::io::Error::other("none held")),
+            Err(e) => Err(e),
+        },
+    );
     // SAFETY: plain system calls on a struct we own.
     unsafe {
         println!("attack: running as user {}", libc::geteuid());

@@ -1101,3 +1101,28 @@ fn the_calls_that_reach_past_the_case_are_refused_by_the_filter() {
         );
     }
 }
+
+#[test]
+fn no_capability_is_left_in_the_child() {
+    // As root (dropped to nobody) and as another user, in the user namespace
+    // the launcher makes for the PID namespace (where it held every
+    // capability until it dropped them).
+    for g in [
+        grade(
+            "root-powers",
+            &["--case", "cube-subdivide-1", "--memory", "256M"],
+        ),
+        grade_as_user(
+            "root-powers",
+            &["--case", "cube-subdivide-1", "--memory", "256M"],
+        ),
+    ] {
+        assert!(g.denied("hold a capability"), "{}", g.context());
+        assert!(g.denied("lift the memory cap"), "{}", g.context());
+        assert!(
+            !g.stdout.contains("| attack: running as user 0"),
+            "{}",
+            g.context()
+        );
+    }
+}
