@@ -270,6 +270,19 @@ pub fn kill_descendants() {
     }
 }
 
+/// [`kill_descendants`], unless the launcher reported a PID namespace:
+/// then every process of the case lives in it (an orphan there goes to its
+/// init, never to the grader) and dies with it, and the sweep, a walk of
+/// all `/proc`, would find nothing.
+fn sweep_unless_contained(sandbox_status: &Option<String>) {
+    let contained = sandbox_status
+        .as_deref()
+        .is_some_and(|s| s.split_whitespace().any(|kv| kv == "pidns=1"));
+    if !contained {
+        kill_descendants();
+    }
+}
+
 fn kill_group(pgid: u32) {
     // SAFETY: a plain system call; the group is the child's own.
     unsafe {
@@ -437,12 +450,12 @@ pub fn run_child(
                 status = Some(s);
                 // Whatever it started dies with it, and lets go of the pipes.
                 kill_group(pid);
-                kill_descendants();
+                sweep_unless_contained(&sandbox_status);
             }
             Err(_) if status.is_some() || limit_hit.is_some() => break,
             Err(_) => {
                 kill_group(pid);
-                kill_descendants();
+                sweep_unless_contained(&sandbox_status);
                 limit_hit = Some(match started {
                     Some(_) => Exit::TimedOut(timeout),
                     None => Exit::StuckBeforeCall(timeout + SETUP_GRACE),
@@ -452,7 +465,7 @@ pub fn run_child(
     }
     kill_group(pid);
     active().retain(|&p| p != pid);
-    kill_descendants();
+    sweep_unless_contained(&sandbox_status);
     let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
     let exit = classify(limit_hit, status, result, &output, sandbox_status.is_some());
     Ok(RawReport {
