@@ -10,9 +10,9 @@
 //! No pipe is waited on past the deadline: the launcher starts in a
 //! session and process group of its own, which is killed at the deadline
 //! and after every case; where the launcher could make a PID namespace,
-//! the case ends with it; elsewhere the grader is a "child subreaper", so
-//! a process that left the group becomes the grader's child when its
-//! parent dies and is found and killed too. Before its first case the
+//! the case ends with it and nothing is swept; elsewhere the grader is a
+//! "child subreaper", so a process that left the group becomes the
+//! grader's child when its parent dies and is found and killed too. Before its first case the
 //! grader makes itself non-dumpable ([`guard_grader`]).
 
 use std::ffi::OsString;
