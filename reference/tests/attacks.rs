@@ -1024,11 +1024,17 @@ fn the_protections_line_names_session_namespace_and_filter() {
             .find(|l| l.contains("[info] protections: "))
             .unwrap_or_else(|| panic!("no protections line:\n{}", g.context()));
         assert!(line.contains("own session (no terminal)"), "{line}");
-        // This machine has PID namespaces for root and for other users.
-        assert!(
-            line.contains("own PID namespace (nothing outlives the case)"),
-            "{line}"
-        );
+        if line.contains("orphans swept (no PID namespace here)") {
+            // Some kernels and containers give no PID namespace (Ubuntu's
+            // AppArmor keeps unprivileged users from mapping one): the
+            // fallback must then say so, as it does.
+            common::skip("this machine gives this user no PID namespace");
+        } else {
+            assert!(
+                line.contains("own PID namespace (nothing outlives the case)"),
+                "{line}"
+            );
+        }
         assert!(line.contains("no capabilities"), "{line}");
         assert!(line.contains("grader not dumpable"), "{line}");
         assert!(
