@@ -891,9 +891,15 @@ struct SchedAttr {
 pub fn starve(mesh: &mut Mesh) {
     // SAFETY: plain system calls on structs we own.
     unsafe {
-        let mut one_cpu: libc::cpu_set_t = std::mem::zeroed();
-        libc::CPU_SET(0, &mut one_cpu);
+        // The first CPU it may run on (not always CPU 0 in a container).
         let size = std::mem::size_of::<libc::cpu_set_t>();
+        let mut mine: libc::cpu_set_t = std::mem::zeroed();
+        libc::sched_getaffinity(0, size, &mut mine);
+        let first = (0..libc::CPU_SETSIZE as usize)
+            .find(|&c| libc::CPU_ISSET(c, &mine))
+            .unwrap_or(0);
+        let mut one_cpu: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(first, &mut one_cpu);
         report(
             "pin the grader to one CPU",
             on_grader(|p| libc::sched_setaffinity(p, size, &one_cpu).into()),
