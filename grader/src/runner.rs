@@ -12,8 +12,10 @@
 //! and after every case; where the launcher could make a PID namespace,
 //! the case ends with it and nothing is swept; elsewhere the grader is a
 //! "child subreaper", so a process that left the group becomes the
-//! grader's child when its parent dies and is found and killed too. Before its first case the
-//! grader makes itself non-dumpable ([`guard_grader`]).
+//! grader's child when its parent dies and is found and killed too.
+//! Before its first case the grader makes itself non-dumpable
+//! ([`guard_grader`]); a root grader runs a child program `nobody` may not
+//! execute from a private copy.
 
 use std::ffi::OsString;
 use std::io::{Read, Write};
