@@ -335,8 +335,22 @@ fn code_before_main_is_stopped() {
         "{}",
         g.context()
     );
-    // 17 cases on 2 workers: well under 17 x (3 + 2) s.
-    assert!(g.took < Duration::from_secs(40), "{}", g.context());
+    // The work is bounded, not the time: only the cases already running
+    // when the first one timed out (one per worker, and one a worker may
+    // have picked up before it heard) wait out the 3 s limit; every other
+    // subdivision case, however many the fixtures hold, gets 1 s.
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let subdivisions = counted("subdivide");
+    let cut = g
+        .stdout
+        .matches("the limit was cut to 1 s because loop_subdivide already timed out")
+        .count();
+    let full = subdivisions - cut;
+    assert!(
+        (1..=2 * workers).contains(&full),
+        "{full} of {subdivisions} cases waited the whole limit: {}",
+        g.context()
+    );
 }
 
 // ---------------------------------------------------------------------
@@ -435,7 +449,8 @@ fn a_chain_of_processes_does_not_outlive_the_grader() {
     let left = survivors("process-chain");
     kill_survivors("process-chain");
     assert_eq!(left, Vec::new(), "{}", g.context());
-    assert!(g.took < Duration::from_secs(12), "{}", g.context());
+    // Not the 40 s the chain's processes would hold the pipes for.
+    assert!(g.took < Duration::from_secs(30), "{}", g.context());
     assert_no_flip_verdict(&g);
 }
 

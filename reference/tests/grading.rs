@@ -564,7 +564,9 @@ fn processes_left_behind_cannot_hold_or_outlive_the_grader() {
             "{}",
             g.stdout
         );
-        assert!(took.as_secs_f64() < 5.0, "took {took:?} with a 3 s limit");
+        // The case ends with the function, not when the orphan lets go of
+        // the pipes 40 s later (generous for a loaded 2-core machine).
+        assert!(took.as_secs_f64() < 30.0, "took {took:?} with a 3 s limit");
         assert_eq!(survivors("orphan"), Vec::<String>::new());
 
         // A detached process that would rewrite results.json 3 s later.
