@@ -723,7 +723,11 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         Some(dir) => {
             let pairs: Vec<(&Fixture, &grade::CaseReport)> =
                 cases.iter().map(|c| c.fixture).zip(&reports).collect();
-            match html::write_report(dir, &pairs) {
+            #[cfg(unix)]
+            let live = watch::is_inner();
+            #[cfg(not(unix))]
+            let live = false;
+            match html::write_report_live(dir, &pairs, live) {
                 Ok(index) => Some(index),
                 Err(e) => return usage_error(&format!("cannot write the report: {e}")),
             }
