@@ -139,6 +139,28 @@ pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
     out
 }
 
+/// (text, case) pairs grouped by text, in first-seen order: cases that
+/// failed alike, or got the same hint, share a line.
+fn alike<'a>(items: impl Iterator<Item = (String, &'a str)>) -> Vec<(String, Vec<&'a str>)> {
+    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
+    for (text, name) in items {
+        match groups.iter_mut().find(|(t, _)| *t == text) {
+            Some((_, names)) => names.push(name),
+            None => groups.push((text, vec![name])),
+        }
+    }
+    groups
+}
+
+/// "cube-split", or "cube-split and 3 more".
+fn who(names: &[&str]) -> String {
+    match names {
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!("{first} and {} more", rest.len()),
+        [] => String::new(),
+    }
+}
+
 /// The last lines: tallies, failures, what to do next, the verdict.
 fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
     let color = opts.color;
@@ -172,25 +194,17 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         .filter(|c| !c.passed && counts(c, opts.bonus))
         .collect();
     // Cases that failed with the same first warning share one line.
-    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
-    for c in &failed {
+    let groups = alike(failed.iter().map(|c| {
         let text = first_warning(c).unwrap_or_else(|| "failed".to_string());
-        match groups.iter_mut().find(|(t, _)| *t == text) {
-            Some((_, names)) => names.push(&c.name),
-            None => groups.push((text, vec![&c.name])),
-        }
-    }
+        (text, c.name.as_str())
+    }));
     for (text, names) in groups.iter().take(SUMMARY_FAILURES) {
-        let who = match names.len() {
-            1 => names[0].to_string(),
-            n => format!("{} and {} more", names[0], n - 1),
-        };
         log_line(
             out,
             file!(),
             line!(),
             true,
-            &format!("{who}: {text}"),
+            &format!("{}: {text}", who(names)),
             color,
         );
     }
@@ -210,26 +224,18 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
     }
     // Each hint once, under the failures, in its own words: where students
     // read, not only above under its case.
-    let mut hints: Vec<(&str, Vec<&str>)> = Vec::new();
-    for c in &failed {
-        if let Some(h) = &c.hint {
-            match hints.iter_mut().find(|(t, _)| *t == h.as_str()) {
-                Some((_, names)) => names.push(&c.name),
-                None => hints.push((h, vec![&c.name])),
-            }
-        }
-    }
+    let hints = alike(
+        failed
+            .iter()
+            .filter_map(|c| Some((c.hint.clone()?, c.name.as_str()))),
+    );
     for (hint, names) in hints.iter().take(SUMMARY_FAILURES) {
-        let who = match names.len() {
-            1 => names[0].to_string(),
-            n => format!("{} and {} more", names[0], n - 1),
-        };
         log_line(
             out,
             file!(),
             line!(),
             false,
-            &format!("hint for {who}: {hint}"),
+            &format!("hint for {}: {hint}", who(names)),
             color,
         );
     }

@@ -391,19 +391,21 @@ fn split_marks_new(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     Some(m)
 }
 
+/// A halfedge leaving the split vertex `m` across the old edge `a`-`b`
+/// (its far end neither `a` nor `b`).
+fn halfedge_across(mesh: &Mesh, m: VertexId, a: VertexId, b: VertexId) -> Option<HalfedgeId> {
+    mesh.vertex_halfedges(m).into_iter().find(|&h| {
+        let end = mesh.halfedge_dst(h);
+        end != a && end != b
+    })
+}
+
 /// A valid split whose edge `e` became the new edge across the first
 /// triangle instead of half of the old edge (the ids of two edges swapped).
 fn split_renames_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     let (a, b) = mesh.edge_vertices(e);
     let m = solution::split_edge(mesh, e)?;
-    let across = mesh
-        .vertex_halfedges(m)
-        .into_iter()
-        .find(|&h| {
-            let end = mesh.halfedge_dst(h);
-            end != a && end != b
-        })
-        .map(|h| mesh[h].edge)?;
+    let across = mesh[halfedge_across(mesh, m, a, b)?].edge;
     let (he, hx) = (mesh[e].halfedge, mesh[across].halfedge);
     for h in [he, mesh[he].twin] {
         mesh[h].edge = across;
@@ -426,14 +428,7 @@ fn split_third(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
 fn split_vertex_across(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     let (a, b) = mesh.edge_vertices(e);
     let m = solution::split_edge(mesh, e)?;
-    let across = mesh
-        .vertex_halfedges(m)
-        .into_iter()
-        .find(|&g| {
-            let d = mesh.halfedge_dst(g);
-            d != a && d != b
-        })
-        .expect("a split vertex has edges across");
+    let across = halfedge_across(mesh, m, a, b).expect("a split vertex has edges across");
     mesh[m].halfedge = across;
     Some(m)
 }
