@@ -9,7 +9,7 @@
 //! passes. For students, `README.md` and `docs/architecture.md` become the
 //! student versions kept in `reference/handout/`, passages of other Markdown
 //! between `<!-- ta -->` and `<!-- /ta -->` are dropped, and the GitHub
-//! Classroom workflow is added.
+//! grading workflow (GitHub Actions) is added.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -37,8 +37,8 @@ pub const EXCLUDED: [&str; 10] = [
 /// Files the student export gets in place of the lab's, or in addition.
 const STUDENT_README: &str = include_str!("../handout/README.md");
 const STUDENT_ARCHITECTURE: &str = include_str!("../handout/architecture.md");
-const CLASSROOM_WORKFLOW: &str = include_str!("../handout/classroom.yml");
-const CLASSROOM_POINTS: &str = include_str!("../handout/points.py");
+const GRADE_WORKFLOW: &str = include_str!("../handout/grade.yml");
+const GRADE_SUMMARY: &str = include_str!("../handout/summary.py");
 
 /// Markers around TA-only passages of the lab's Markdown.
 const TA_START: &str = "<!-- ta -->";
@@ -200,11 +200,10 @@ fn copy_tree(
 }
 
 /// Writes the student workspace for the lab at `root` into `dest` (new or
-/// empty, outside the lab), with the GitHub Classroom workflow, and with
-/// Classroom's `autograding.json` too when `autograding`.
-pub fn export(root: &Path, dest: &Path, autograding: bool) -> Result<Exported, String> {
+/// empty, outside the lab), with the GitHub Actions grading workflow.
+pub fn export(root: &Path, dest: &Path) -> Result<Exported, String> {
     let mut out = copy_lab(root, dest, Purpose::Handout)?;
-    out.files += write_classroom(root, dest, autograding)?;
+    out.files += write_workflow(root, dest)?;
     let copies = solution_copies(dest)?;
     if !copies.is_empty() {
         let _ = std::fs::remove_dir_all(dest);
@@ -248,22 +247,17 @@ pub fn solution_copies(dir: &Path) -> Result<Vec<String>, String> {
     Ok(found)
 }
 
-/// The Classroom files of an export; returns how many it wrote.
-fn write_classroom(root: &Path, dest: &Path, autograding: bool) -> Result<usize, String> {
+/// The grading workflow of an export (GitHub Actions, the job summary as
+/// the report); returns how many files it wrote.
+fn write_workflow(root: &Path, dest: &Path) -> Result<usize, String> {
     let version = rust_version(root)?;
-    let mut files = vec![
+    let files = [
         (
-            ".github/workflows/classroom.yml",
-            CLASSROOM_WORKFLOW.replace("@RUST_VERSION@", &version),
+            ".github/workflows/grade.yml",
+            GRADE_WORKFLOW.replace("@RUST_VERSION@", &version),
         ),
-        (".github/classroom/points.py", CLASSROOM_POINTS.to_string()),
+        (".github/grading/summary.py", GRADE_SUMMARY.to_string()),
     ];
-    if autograding {
-        files.push((
-            ".github/classroom/autograding.json",
-            autograding_json(&dest.join("fixtures")),
-        ));
-    }
     for (rel, text) in &files {
         let path = dest.join(rel);
         io(
@@ -275,40 +269,8 @@ fn write_classroom(root: &Path, dest: &Path, autograding: bool) -> Result<usize,
     Ok(files.len())
 }
 
-/// GitHub Classroom's own test list (for assignments set up with its
-/// "autograding tests" form rather than the workflow): one test per
-/// function, worth its number of lab cases, passing when the grader passes
-/// that function.
-fn autograding_json(fixtures: &Path) -> String {
-    let mut tests = Vec::new();
-    for (stage, function, kind) in [
-        ("flip", "flip_edge", "flip"),
-        ("split", "split_edge", "split"),
-        ("subdivide", "loop_subdivide", "subdivide"),
-    ] {
-        let points = std::fs::read_dir(fixtures.join("lab"))
-            .into_iter()
-            .flatten()
-            .filter_map(|e| std::fs::read_to_string(e.ok()?.path()).ok())
-            .filter_map(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-            .filter(|f| f["operation"]["kind"] == kind)
-            .count();
-        tests.push(serde_json::json!({
-            "name": function,
-            "setup": "",
-            "run": format!("cargo run --locked --quiet -p grader -- --no-color --stage {stage}"),
-            "input": "",
-            "output": "all tests passed",
-            "comparison": "included",
-            "timeout": 10,
-            "points": points,
-        }));
-    }
-    serde_json::to_string_pretty(&serde_json::json!({ "tests": tests })).expect("JSON") + "\n"
-}
-
 /// The version of the Rust toolchain the lab builds with here (`1.95.0`),
-/// which the Gradescope bundle and the Classroom workflow install.
+/// which the Gradescope bundle and the grading workflow install.
 pub fn rust_version(root: &Path) -> Result<String, String> {
     let out = Command::new("rustc")
         .arg("-V")
@@ -420,10 +382,10 @@ pub fn list_files(dir: &Path) -> Result<Vec<String>, String> {
 
 /// Refreshes a student export given out before (`dest`) from the lab:
 /// fixtures (cases added, changed and removed), docs, the grader, the mesh
-/// library, the manifests and the Classroom files. Nothing under
+/// library, the manifests and the grading workflow. Nothing under
 /// `crates/meshedit/` (the student's crate) is touched, nor any file the
 /// student added outside `fixtures/`.
-pub fn update(root: &Path, dest: &Path, autograding: bool) -> Result<Updated, String> {
+pub fn update(root: &Path, dest: &Path) -> Result<Updated, String> {
     if !dest.join("crates/meshedit/src/lib.rs").is_file() || !dest.join("fixtures").is_dir() {
         return Err(format!(
             "{} is not a handout: no crates/meshedit/src/lib.rs or fixtures/ in it",
@@ -439,7 +401,7 @@ pub fn update(root: &Path, dest: &Path, autograding: bool) -> Result<Updated, St
     let fresh = std::env::temp_dir().join(format!("meshlab-update-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&fresh);
     let result = (|| {
-        export(root, &fresh, autograding)?;
+        export(root, &fresh)?;
         let mut done = Updated::default();
         let new_files = list_files(&fresh)?;
         for rel in &new_files {

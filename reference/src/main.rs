@@ -147,17 +147,17 @@ enum Command {
         #[command(flatten)]
         weights: WeightOpt,
     },
-    /// Write the student workspace (no solution, no hidden cases, with the
-    /// GitHub Classroom workflow) to DIR.
+    /// Write the student workspace (no solution, no hidden cases, with a
+    /// GitHub Actions workflow that grades on push) to DIR.
     Handout {
         dir: PathBuf,
         /// Refresh a handout given out before: fixtures, docs, grader and
         /// library; the student's crates/meshedit is left as it is.
         #[arg(long)]
         update: bool,
-        /// Also write .github/classroom/autograding.json (Classroom's own
-        /// test list, one test per function).
-        #[arg(long)]
+        /// Gone with GitHub Classroom (shut down on 2026-08-28); refused
+        /// with a message saying what replaced it.
+        #[arg(long, hide = true)]
         autograding: bool,
     },
     /// Grade an implementation from the catalogue (default: the reference)
@@ -733,8 +733,17 @@ fn run(command: Command) -> Result<ExitCode, String> {
             update,
             autograding,
         } => {
+            if autograding {
+                return Err(
+                    "--autograding wrote GitHub Classroom's test list, and GitHub \
+                     Classroom was shut down on 2026-08-28: every export now carries a plain \
+                     GitHub Actions workflow (.github/workflows/grade.yml) that grades on push \
+                     and writes the result as the job summary; see docs/ta-guide.md"
+                        .to_string(),
+                );
+            }
             if update {
-                let done = handout::update(&lab_root(), &dir, autograding)?;
+                let done = handout::update(&lab_root(), &dir)?;
                 for f in &done.written {
                     println!("updated {f}");
                 }
@@ -749,7 +758,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 );
                 return Ok(ExitCode::SUCCESS);
             }
-            let done = handout::export(&lab_root(), &dir, autograding)?;
+            let done = handout::export(&lab_root(), &dir)?;
             println!(
                 "wrote the student workspace to {} ({} files)",
                 dir.display(),

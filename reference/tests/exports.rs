@@ -1,5 +1,5 @@
 //! The TA's copies of the lab, end to end: the student export (and its
-//! update and GitHub Classroom workflow), the Gradescope bundle run on six
+//! update and its GitHub Actions grading workflow), the Gradescope bundle run on six
 //! kinds of upload, and class grading of a folder with good, broken, stray
 //! and hostile entries.
 //!
@@ -113,10 +113,19 @@ fn sum(tests: &[serde_json::Value], key: &str) -> f64 {
 }
 
 #[test]
-fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
+fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
     let _turn = take_turn();
     let dir = scratch("handout").join("lab");
-    let r = run(&["handout", dir.to_str().unwrap(), "--autograding"]);
+    // The Classroom option is refused, saying what replaced it.
+    let old = run(&["handout", dir.to_str().unwrap(), "--autograding"]);
+    assert_eq!(old.code, 2, "{}", old.stderr);
+    assert!(
+        old.stderr.contains("GitHub Classroom was shut down"),
+        "{}",
+        old.stderr
+    );
+    assert!(!dir.exists(), "nothing written");
+    let r = run(&["handout", dir.to_str().unwrap()]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     let all = reference::handout::list_files(&dir).unwrap();
     for gone in [
@@ -142,9 +151,8 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
         "grader/src/main.rs",
         "fixtures/lab/cube-subdivide-1.json",
         "fixtures/bonus/grid-subdivide-1.json",
-        ".github/workflows/classroom.yml",
-        ".github/classroom/points.py",
-        ".github/classroom/autograding.json",
+        ".github/workflows/grade.yml",
+        ".github/grading/summary.py",
     ] {
         assert!(all.iter().any(|f| f == kept), "{kept} is missing");
     }
@@ -254,80 +262,102 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
     );
     assert!(!stderr.contains("panicked at"), "{stderr}");
 
-    // The Classroom workflow: valid YAML, and each command it runs exists
-    // and succeeds on the model solution, giving every point.
-    std::fs::write(dir.join("crates/meshedit/src/lib.rs"), solution()).unwrap();
-    let steps = workflow_steps(&dir.join(".github/workflows/classroom.yml"));
-    let outputs = dir.join("github_output");
-    let mut graded = 0;
-    for (name, run) in &steps {
-        let program = run.split_whitespace().next().unwrap();
-        let which = Command::new("sh")
-            .args(["-c", &format!("command -v {program}")])
-            .output()
-            .unwrap();
-        assert!(which.status.success(), "step {name}: no {program}");
-        if program == "rustup" {
-            // Installing a toolchain needs the network; the pin is checked below.
-            continue;
-        }
-        let out = Command::new("bash")
-            .args(["-eo", "pipefail", "-c", run])
-            .current_dir(&dir)
-            .env("CARGO_TARGET_DIR", target())
-            .env("GITHUB_OUTPUT", &outputs)
-            .env("GITHUB_STEP_SUMMARY", dir.join("summary"))
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "step {name} failed:\n{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        );
-        graded += run.contains("points.py") as usize;
-    }
-    assert_eq!(graded, 3, "one grading step per function");
-    let results: Vec<serde_json::Value> = std::fs::read_to_string(&outputs)
-        .unwrap()
-        .lines()
-        .map(|l| {
-            use std::io::Read;
-            let encoded = l.strip_prefix("result=").expect("result=...");
-            let mut bytes = Vec::new();
-            base64_decode(encoded)
-                .as_slice()
-                .read_to_end(&mut bytes)
-                .unwrap();
-            serde_json::from_slice(&bytes).unwrap()
-        })
-        .collect();
-    assert_eq!(results.len(), 3);
-    for r in &results {
-        assert_eq!(r["status"], "pass", "{r}");
-        assert!(r["max_score"].as_u64().unwrap() > 0);
-        let score: u64 = r["tests"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|t| t["score"].as_u64().unwrap())
-            .sum();
-        assert_eq!(Some(score), r["max_score"].as_u64(), "{r}");
-    }
-    let yml = std::fs::read_to_string(dir.join(".github/workflows/classroom.yml")).unwrap();
+    // The grading workflow, as GitHub Actions runs it: valid YAML, each
+    // command it runs exists, and its job summary is right for the model
+    // solution (every point, green), the stubs (none, red) and code that
+    // does not compile (the compiler's error, red).
+    let workflow = dir.join(".github/workflows/grade.yml");
+    let yml = std::fs::read_to_string(&workflow).unwrap();
     let version = reference::handout::rust_version(&root()).unwrap();
     assert!(
         yml.contains(&format!("RUSTUP_TOOLCHAIN: \"{version}\"")),
         "{yml}"
     );
-    let auto = json(&dir.join(".github/classroom/autograding.json"));
-    let points: u64 = auto["tests"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t["points"].as_u64().unwrap())
-        .sum();
-    assert_eq!(points as usize, case_files("lab").len());
+    assert!(
+        !yml.contains("classroom"),
+        "nothing of GitHub Classroom: {yml}"
+    );
+    let steps = workflow_steps(&workflow);
+    let lab_points = case_files("lab").len();
+    let run_workflow = |lib_rs: &str, tag: &str| -> (bool, String) {
+        std::fs::write(dir.join("crates/meshedit/src/lib.rs"), lib_rs).unwrap();
+        let summary = dir.join(format!("summary-{tag}.md"));
+        let mut last_ok = true;
+        for (name, run) in &steps {
+            let program = run.split_whitespace().next().unwrap();
+            let which = Command::new("sh")
+                .args(["-c", &format!("command -v {program}")])
+                .output()
+                .unwrap();
+            assert!(which.status.success(), "step {name}: no {program}");
+            if program == "rustup" {
+                // Installing a toolchain needs the network; the pin is checked above.
+                continue;
+            }
+            let out = Command::new("bash")
+                .args(["-eo", "pipefail", "-c", run])
+                .current_dir(&dir)
+                .env("CARGO_TARGET_DIR", target())
+                .env("GITHUB_STEP_SUMMARY", &summary)
+                .output()
+                .unwrap();
+            last_ok = out.status.success();
+            if name != "Grade" {
+                assert!(
+                    last_ok,
+                    "step {name} failed:\n{}{}",
+                    String::from_utf8_lossy(&out.stdout),
+                    String::from_utf8_lossy(&out.stderr)
+                );
+            }
+        }
+        (
+            last_ok,
+            std::fs::read_to_string(&summary).unwrap_or_default(),
+        )
+    };
+    let (green, text) = run_workflow(&solution(), "solution");
+    assert!(green, "{text}");
+    assert!(
+        text.starts_with(&format!(
+            "## Mesh lab: {lab_points}/{lab_points} points, all tests passed"
+        )),
+        "{text}"
+    );
+    for (function, kind) in [
+        ("flip_edge", "flip"),
+        ("split_edge", "split"),
+        ("loop_subdivide", "subdivide"),
+    ] {
+        let n = ["lab"]
+            .iter()
+            .flat_map(|g| case_files(g))
+            .filter(|p| json(p)["operation"]["kind"] == kind)
+            .count();
+        assert!(
+            text.contains(&format!("| `{function}` | {n}/{n} |  |")),
+            "{text}"
+        );
+    }
+    let (green, text) = run_workflow(&stubs(), "stubs");
+    assert!(!green, "the stubs fail the check: {text}");
+    assert!(
+        text.starts_with(&format!("## Mesh lab: 0/{lab_points} points, test failed")),
+        "{text}"
+    );
+    assert!(
+        text.contains("flip_edge panicked: not yet implemented"),
+        "{text}"
+    );
+    let (green, text) = run_workflow("pub fn flip_edge( {\n", "broken");
+    assert!(!green);
+    assert!(text.starts_with("## Mesh lab: not graded"), "{text}");
+    assert!(text.contains("The code does not compile"), "{text}");
+    assert!(
+        text.contains("error"),
+        "the compiler's error is shown: {text}"
+    );
+    std::fs::write(dir.join("crates/meshedit/src/lib.rs"), solution()).unwrap();
 
     // --update refreshes fixtures and docs, removes a dropped case and
     // leaves the student's work alone.
@@ -392,18 +422,6 @@ fn workflow_steps(path: &Path) -> Vec<(String, String)> {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice::<Vec<(String, String)>>(&out.stdout).unwrap()
-}
-
-fn base64_decode(text: &str) -> Vec<u8> {
-    let out = Command::new("python3")
-        .args([
-            "-c",
-            "import base64, sys; sys.stdout.buffer.write(base64.b64decode(sys.argv[1]))",
-        ])
-        .arg(text)
-        .output()
-        .unwrap();
-    out.stdout
 }
 
 /// Whether every folder above `path` lets other users through (user
