@@ -302,7 +302,9 @@ impl Mesh {
 fn grew_past(limit: usize) -> ! {
     panic!(
         "the mesh grew past {limit} elements (vertices + edges + faces + halfedges): \
-         is something splitting without end?"
+         is something splitting without end? (found by the mesh library, {}:{})",
+        file!(),
+        line!()
     );
 }
 
@@ -322,7 +324,14 @@ pub fn set_process_element_budget(limit: Option<usize>) {
 #[inline(never)]
 #[track_caller]
 fn no_such(kind: &str, id: &dyn std::fmt::Display, len: usize) -> ! {
-    panic!("there is no {kind} {id} (the mesh has {len}): an unset or stale id?")
+    // The location a panic reports is the caller's (`#[track_caller]`): the
+    // library's own place goes in the message, second.
+    panic!(
+        "there is no {kind} {id} (the mesh has {len}): an unset or stale id? (found by the \
+         mesh library's indexing, {}:{})",
+        file!(),
+        line!()
+    )
 }
 
 macro_rules! arena_index {

@@ -221,6 +221,9 @@ impl Mesh {
 fn never_came_back(around: &str) -> ! {
     panic!(
         "the walk around {around} never came back to where it started: \
-         the mesh's links are broken (call mesh.validate() to find where)"
+         the mesh's links are broken (call mesh.validate() to find where) (found by the \
+         mesh library's walk, {}:{})",
+        file!(),
+        line!()
     );
 }

@@ -123,9 +123,40 @@ fn indexing_a_missing_element_says_so() {
     let m = shapes::lab_object("cone").unwrap();
     let err = panic::catch_unwind(|| m[VertexId(70)].pos).unwrap_err();
     let msg = err.downcast_ref::<String>().unwrap();
+    assert!(
+        msg.starts_with(
+            "there is no vertex v70 (the mesh has 7): an unset or stale id? (found by the mesh \
+             library's indexing, crates/halfedge/src/mesh.rs:"
+        ),
+        "{msg}"
+    );
+}
+
+/// A panic in the library is placed at the caller's line (the student's),
+/// the library's own place said in the message.
+#[test]
+fn a_panic_in_the_library_is_placed_at_the_line_that_called_it() {
+    let m = shapes::lab_object("cone").unwrap();
+    let place = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+    let seen = place.clone();
+    // Tests run side by side: record only this thread's panics.
+    let me = std::thread::current().id();
+    let old = panic::take_hook();
+    panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() != me {
+            return;
+        }
+        if let Some(l) = info.location() {
+            *seen.lock().unwrap() = format!("{}:{}", l.file(), l.line());
+        }
+    }));
+    let line = line!() + 1;
+    let _ = panic::catch_unwind(|| m[halfedge::HalfedgeId::NONE].next);
+    let _ = panic::catch_unwind(|| m.vertex_halfedges(VertexId(99)));
+    panic::set_hook(old);
     assert_eq!(
-        msg,
-        "there is no vertex v70 (the mesh has 7): an unset or stale id?"
+        *place.lock().unwrap(),
+        format!("crates/halfedge/tests/mesh.rs:{}", line + 1)
     );
 }
 
