@@ -497,6 +497,7 @@ fn grade_class(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
         timeout: 2.0,
         budget: 120.0,
         bonus: false,
+        fresh: true,
         target: root.join("target/ta-tests"),
         progress: false,
     };
