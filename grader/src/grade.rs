@@ -58,11 +58,25 @@ pub struct CaseReport {
     /// The mesh the student's function left, when it returned.
     #[serde(skip)]
     pub result: Option<halfedge::Mesh>,
+    /// The first hint the case got (its words, as its `hint:` line says
+    /// them): the summary repeats it where students read.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hint: Option<String>,
 }
 
 struct Log {
     entries: Vec<Entry>,
     passed: bool,
+    hint: Option<String>,
+}
+
+/// A detail line `hint: ...`, and the case's hint if it had none yet.
+macro_rules! hint {
+    ($log:expr, $($arg:tt)*) => {{
+        let text = format!($($arg)*);
+        $log.push(Level::Detail, format!("hint: {text}"), None, file!(), line!());
+        $log.hint.get_or_insert(text);
+    }};
 }
 
 macro_rules! say {
@@ -146,6 +160,7 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
     let mut log = Log {
         entries: Vec::new(),
         passed: true,
+        hint: None,
     };
     let what = subject(f);
     say!(log, Info, "start testing {} for {what}", activity(stage));
@@ -162,6 +177,7 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         timed_out: matches!(child.run, Run::TimedOut(_) | Run::StuckBeforeCall(_)),
         input: None,
         result: None,
+        hint: log.hint,
     }
 }
 
@@ -235,7 +251,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 "{function} returned a mesh far larger than any right answer ({} MiB of data)",
                 bytes >> 20
             );
-            say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting.");
+            hint!(log, "are edges created while splitting split again? Loop over the edge ids taken before splitting.");
         }
         Run::JudgeFailed(message) => {
             quote!(
@@ -285,7 +301,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
             } else if message.starts_with("the mesh grew past") {
-                say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
+                hint!(log, "are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
             }
         }
         Run::Done(Outcome::Finished { .. }) if must_panic => {
@@ -372,7 +388,7 @@ fn judge_finished(
             .iter()
             .find(|m| m.invalid.as_deref() == Some(message))
         {
-            say!(log, Detail, "hint: {}", m.hint);
+            hint!(log, "{}", m.hint);
         }
         return;
     }
@@ -684,11 +700,17 @@ fn compare_vertices(
         if let Operation::Subdivide { rounds } = f.operation {
             say!(log, Detail, "{}", counts_rule(f, before, rounds));
             if got == before.vertices {
-                say!(log, Detail, "hint: no vertex was added: does loop_subdivide call split_edge on every old edge?");
+                hint!(
+                    log,
+                    "no vertex was added: does loop_subdivide call split_edge on every old edge?"
+                );
             } else if got > want {
-                say!(log, Detail, "hint: more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.");
+                hint!(log, "more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.");
             } else {
-                say!(log, Detail, "hint: fewer vertices than one per old edge: was every old edge split exactly once?");
+                hint!(
+                    log,
+                    "fewer vertices than one per old edge: was every old edge split exactly once?"
+                );
             }
         }
         return None;
@@ -740,7 +762,7 @@ fn compare_vertices(
         for mistake in &expected.mistakes {
             if let Some(ps) = &mistake.positions {
                 if matching::same_positions(&mesh.positions, ps, f.tolerance) {
-                    say!(log, Detail, "hint: {}", mistake.hint);
+                    hint!(log, "{}", mistake.hint);
                     break;
                 }
             }
@@ -823,7 +845,7 @@ fn compare_edges(
     for mistake in &expected.mistakes {
         if let Some(edges) = &mistake.edges {
             if matching::diff_edges(&mine, edges).is_empty() {
-                say!(log, Detail, "hint: {}", mistake.hint);
+                hint!(log, "{}", mistake.hint);
                 break;
             }
         }
@@ -990,10 +1012,12 @@ pub fn add_detail(report: &mut CaseReport, text: String) {
     let mut log = Log {
         entries: std::mem::take(&mut report.entries),
         passed: report.passed,
+        hint: report.hint.take(),
     };
     say!(log, Detail, "{text}");
     report.entries = log.entries;
     report.entries.extend(end);
+    report.hint = log.hint;
 }
 
 /// Says, under a failure, that it showed only on a relabelled input, what
@@ -1011,6 +1035,7 @@ pub fn note_labelling(
     let mut log = Log {
         entries: std::mem::take(&mut report.entries),
         passed: false,
+        hint: report.hint.take(),
     };
     let function = f.operation.stage().function();
     say!(
@@ -1029,23 +1054,24 @@ pub fn note_labelling(
         .unwrap_or_default();
     let advice = match (labelling.kind, f.operation.stage()) {
         (Kind::HoleSide, _) => format!(
-            "hint: does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
+            "does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
         ),
-        (_, Stage::Subdivide) => "hint: your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
+        (_, Stage::Subdivide) => "your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
         _ if warning.contains("vertex's halfedge") => format!(
-            "hint: does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
+            "does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
         ),
         _ if warning.contains("face's halfedge") || warning.contains("to its face") => format!(
-            "hint: does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
+            "does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
         ),
         _ => format!(
-            "hint: does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
+            "does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
         ),
     };
-    say!(log, Detail, "{advice}");
+    hint!(log, "{advice}");
     report.entries = log.entries;
     report.entries.extend(end);
     report.passed = false;
+    report.hint = log.hint;
 }
 
 /// `loop_subdivide` is built on `split_edge` and `flip_edge`: when those
@@ -1067,6 +1093,7 @@ pub fn note_dependencies(reports: &mut [CaseReport]) {
         let mut log = Log {
             entries: std::mem::take(&mut r.entries),
             passed: false,
+            hint: r.hint.take(),
         };
         say!(
             log,
@@ -1076,5 +1103,6 @@ pub fn note_dependencies(reports: &mut [CaseReport]) {
         );
         r.entries = log.entries;
         r.entries.extend(end);
+        r.hint = log.hint;
     }
 }

@@ -2,7 +2,8 @@
 //!
 //! For every case: the input, the student's result and the expected result
 //! as OBJ files (MeshLab, Blender), and one self-contained offline
-//! `index.html` (inline CSS and SVG, no script, nothing fetched): the case
+//! `index.html` (inline CSS and SVG, no script but under `--watch`,
+//! nothing fetched): the case
 //! list at the top, failing cases first, and for each case its verdict and
 //! messages beside pictures of the input, the expected result and the
 //! student's result from three angles.
@@ -1802,6 +1803,23 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
 /// Writes the report for `cases` into `dir` (created if needed) and returns
 /// the path of its `index.html`.
 pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<PathBuf, String> {
+    write_report_live(dir, cases, false)
+}
+
+/// The file a live report polls: its stamp changes with every rewrite.
+pub const STAMP_FILE: &str = "watch-stamp.js";
+
+/// Reloads the page when the stamp [`STAMP_FILE`] sets changes: a script
+/// element, not `fetch`, which pages opened from `file://` may not use.
+const LIVE_SCRIPT: &str = "<script src=\"watch-stamp.js\"></script>\n<script>\n// Written by --watch: reload when the grader rewrites this report.\n(function () {\n  var first = window.meshlabStamp;\n  setInterval(function () {\n    var s = document.createElement('script');\n    s.src = 'watch-stamp.js?' + Date.now();\n    s.onload = function () { s.remove(); if (window.meshlabStamp !== first) location.reload(); };\n    s.onerror = function () { s.remove(); };\n    document.head.appendChild(s);\n  }, 1000);\n})();\n</script>\n";
+
+/// [`write_report`], and with `live` (under `--watch`) a page that reloads
+/// itself when a later run rewrites it.
+pub fn write_report_live(
+    dir: &Path,
+    cases: &[(&Fixture, &CaseReport)],
+    live: bool,
+) -> Result<PathBuf, String> {
     let io = |p: &Path, e: std::io::Error| format!("{}: {e}", p.display());
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     // Failing cases first, the counted ones before the bonus; otherwise in
@@ -1862,9 +1880,10 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
     let mut html = String::with_capacity(body.len() + list.len() + 8192);
     let _ = write!(
         html,
-        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>grader report: {failed} of {} failed</title>\n<style>{STYLE}{}</style>\n</head><body>\n<h1>Grader report</h1>\n",
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>grader report: {failed} of {} failed</title>\n<style>{STYLE}{}</style>\n{}</head><body>\n<h1>Grader report</h1>\n",
         order.len(),
-        shade_css()
+        shade_css(),
+        if live { LIVE_SCRIPT } else { "" }
     );
     let summary = if failed == 0 {
         format!("All {} cases passed.", order.len())
@@ -1884,6 +1903,15 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
     html.push_str("</body></html>\n");
     let index = dir.join("index.html");
     std::fs::write(&index, html).map_err(|e| io(&index, e))?;
+    if live {
+        // Written after the page, so a reload finds the new one.
+        let stamp = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let path = dir.join(STAMP_FILE);
+        std::fs::write(&path, format!("window.meshlabStamp = \"{stamp}\";\n"))
+            .map_err(|e| io(&path, e))?;
+    }
     Ok(index)
 }
 
@@ -1930,6 +1958,7 @@ mod tests {
             timed_out: false,
             input: f.input.to_mesh().ok(),
             result,
+            hint: None,
         }
     }
 
@@ -2019,6 +2048,32 @@ mod tests {
             let report = failed(f, Some(mesh), "empty");
             write_report(&dir, &[(f, &report)]).expect("the report is written");
         }
+    }
+
+    #[test]
+    fn a_live_report_reloads_when_rewritten_and_a_plain_one_has_no_script() {
+        let f = fixture("cube-split");
+        let report = failed(&f, None, "split_edge panicked");
+        let dir = scratch("live");
+        let plain = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
+        assert!(!plain.contains("<script"), "no script without --watch");
+        assert!(!dir.join(STAMP_FILE).exists());
+        let page = write_report_live(&dir, &[(&f, &report)], true).unwrap();
+        let live = std::fs::read_to_string(&page).unwrap();
+        assert!(
+            live.contains("<script src=\"watch-stamp.js\"></script>"),
+            "{live}"
+        );
+        assert!(live.contains("location.reload()"));
+        let first = std::fs::read_to_string(dir.join(STAMP_FILE)).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(2));
+        write_report_live(&dir, &[(&f, &report)], true).unwrap();
+        let second = std::fs::read_to_string(dir.join(STAMP_FILE)).unwrap();
+        assert!(first.starts_with("window.meshlabStamp = \""), "{first}");
+        assert_ne!(
+            first, second,
+            "each rewrite changes the stamp the page polls"
+        );
     }
 
     #[test]

@@ -133,6 +133,10 @@ pub struct Cli {
     /// other protections).
     #[arg(long, hide = true)]
     pub without_landlock: bool,
+    /// Grade without a PID namespace, as on a machine that has none (to
+    /// test the fallback: the sweep and the parent-death signals).
+    #[arg(long, hide = true)]
+    pub without_pid_namespace: bool,
     /// Seed of the relabelled inputs each case also runs on [default: one
     /// per case, fixed]; a failure prints the seed that shows it.
     #[arg(long, value_name = "N")]
@@ -688,8 +692,9 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     runner::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
-        drop_user: sandbox::runnable_by_others(&program.exe),
+        drop_user: true,
         landlock: !cli.without_landlock,
+        pid_namespace: !cli.without_pid_namespace,
     };
     if let Some(b) = cli.budget {
         if !(b > 0.0 && b <= 86_400.0) {
@@ -718,7 +723,11 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         Some(dir) => {
             let pairs: Vec<(&Fixture, &grade::CaseReport)> =
                 cases.iter().map(|c| c.fixture).zip(&reports).collect();
-            match html::write_report(dir, &pairs) {
+            #[cfg(unix)]
+            let live = watch::is_inner();
+            #[cfg(not(unix))]
+            let live = false;
+            match html::write_report_live(dir, &pairs, live) {
                 Ok(index) => Some(index),
                 Err(e) => return usage_error(&format!("cannot write the report: {e}")),
             }
@@ -736,6 +745,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                 quiet: cli.quiet,
                 partial: partial_run(cli),
                 report: report_path.as_ref().map(|p| p.display().to_string()),
+                focus: cli.case.clone(),
                 time: time_line,
             },
         ),

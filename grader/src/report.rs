@@ -78,6 +78,9 @@ pub struct TextOptions {
     pub partial: Option<String>,
     /// Where `--report` wrote its index.html, said above the verdict.
     pub report: Option<String>,
+    /// The case the run was limited to (`--case NAME`): `next:` never
+    /// suggests the command just run.
+    pub focus: Option<String>,
     /// The per-call limit, when `--budget` shortened it.
     pub time: Option<String>,
 }
@@ -136,6 +139,28 @@ pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
     out
 }
 
+/// (text, case) pairs grouped by text, in first-seen order: cases that
+/// failed alike, or got the same hint, share a line.
+fn alike<'a>(items: impl Iterator<Item = (String, &'a str)>) -> Vec<(String, Vec<&'a str>)> {
+    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
+    for (text, name) in items {
+        match groups.iter_mut().find(|(t, _)| *t == text) {
+            Some((_, names)) => names.push(name),
+            None => groups.push((text, vec![name])),
+        }
+    }
+    groups
+}
+
+/// "cube-split", or "cube-split and 3 more".
+fn who(names: &[&str]) -> String {
+    match names {
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!("{first} and {} more", rest.len()),
+        [] => String::new(),
+    }
+}
+
 /// The last lines: tallies, failures, what to do next, the verdict.
 fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
     let color = opts.color;
@@ -169,25 +194,17 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         .filter(|c| !c.passed && counts(c, opts.bonus))
         .collect();
     // Cases that failed with the same first warning share one line.
-    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
-    for c in &failed {
+    let groups = alike(failed.iter().map(|c| {
         let text = first_warning(c).unwrap_or_else(|| "failed".to_string());
-        match groups.iter_mut().find(|(t, _)| *t == text) {
-            Some((_, names)) => names.push(&c.name),
-            None => groups.push((text, vec![&c.name])),
-        }
-    }
+        (text, c.name.as_str())
+    }));
     for (text, names) in groups.iter().take(SUMMARY_FAILURES) {
-        let who = match names.len() {
-            1 => names[0].to_string(),
-            n => format!("{} and {} more", names[0], n - 1),
-        };
         log_line(
             out,
             file!(),
             line!(),
             true,
-            &format!("{who}: {text}"),
+            &format!("{}: {text}", who(names)),
             color,
         );
     }
@@ -205,6 +222,23 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             color,
         );
     }
+    // Each hint once, under the failures, in its own words: where students
+    // read, not only above under its case.
+    let hints = alike(
+        failed
+            .iter()
+            .filter_map(|c| Some((c.hint.clone()?, c.name.as_str()))),
+    );
+    for (hint, names) in hints.iter().take(SUMMARY_FAILURES) {
+        log_line(
+            out,
+            file!(),
+            line!(),
+            false,
+            &format!("hint for {}: {hint}", who(names)),
+            color,
+        );
+    }
     if let Some(index) = &opts.report {
         log_line(
             out,
@@ -216,18 +250,23 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         );
     }
     if let Some(first) = failed.first() {
-        log_line(
-            out,
-            file!(),
-            line!(),
-            false,
-            &format!(
-                "next: fix {} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
-                first.stage.function(),
+        let function = first.stage.function();
+        let next = match (&opts.focus, &opts.report) {
+            // Already that case alone with pictures: what to look at, then
+            // what to run once it is fixed.
+            (Some(case), Some(index)) if *case == first.name => format!(
+                "next: fix {function}, looking at the messages above and the pictures in {index}; \
+                 then run this command again, and `cargo run -p grader` for the whole lab"
+            ),
+            (Some(case), None) if *case == first.name => format!(
+                "next: fix {function}; to see the case, with pictures: cargo run -p grader -- --case {case} --report"
+            ),
+            _ => format!(
+                "next: fix {function} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
                 first.name
             ),
-            color,
-        );
+        };
+        log_line(out, file!(), line!(), false, &next, color);
         log_line(out, file!(), line!(), true, "test failed", color);
     } else if let Some(part) = &opts.partial {
         let n = cases.iter().filter(|c| counts(c, opts.bonus)).count();

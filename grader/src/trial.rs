@@ -146,8 +146,9 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     runner::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
-        drop_user: sandbox::runnable_by_others(&program.exe),
+        drop_user: true,
         landlock: true,
+        pid_namespace: true,
     };
     let request = wire::Request {
         op,
