@@ -592,7 +592,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert!(
         !tests
             .iter()
-            .any(|t| t["name"].as_str().unwrap().contains("grid-")),
+            .any(|t| t["tags"].as_array().unwrap().contains(&"bonus".into())),
         "no bonus"
     );
     assert!(good["execution_time"].as_u64().is_some());
@@ -738,11 +738,11 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     // (0.54 s of 0.6 s), on one CPU as on Gradescope's default machine: the
     // time left after the build is shared out by the child runs each
     // function makes (five labellings per flip case, the bonus ones run
-    // too: 140 of 278), so it gets full marks. Shared out by cases,
-    // flip_edge got a third of it (about 68 s), less than its 140 runs take
-    // (at least 76 s), and was stopped. The budget: the time this upload's
+    // too: 145 of 283), so it gets full marks. Shared out by cases,
+    // flip_edge got a third of it (about 68 s), less than its 145 runs take
+    // (at least 78 s), and was stopped. The budget: the time this upload's
     // build takes (as the last one's did), the reserve, and 205 s to grade;
-    // from about 187 s the 0.6 s limit holds for every run, so a slower
+    // from about 190 s the 0.6 s limit holds for every run, so a slower
     // build leaves room.
     let build = warn_log
         .lines()
@@ -918,8 +918,9 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     // grader fits every run into the budget, so flips and splits count.
     let mallory = row("mallory");
     assert_eq!(mallory.status, "failed", "{mallory:?}");
-    assert_eq!(mallory.functions[0], (counted("flip"), counted("flip")));
-    assert_eq!(mallory.functions[1], (counted("split"), counted("split")));
+    for (passed, of) in &mallory.functions[..2] {
+        assert!(passed == of && *of > 0, "{mallory:?}");
+    }
     assert_eq!(mallory.functions[2].0, 0, "{mallory:?}");
     assert!(mallory.seconds < 60.0, "{mallory:?}");
     assert!(took < Duration::from_secs(180), "{took:?}");
@@ -951,10 +952,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
     assert!(
-        csv.contains(&format!(
-            "\n'=cmd(),{},{max},failed,0/",
-            counted("split") + 1
-        )),
+        csv.lines()
+            .any(|l| l.starts_with("'=cmd(),") && l.contains(",failed,0/")),
         "{csv}"
     );
     assert!(
