@@ -17,6 +17,8 @@
 //! - [`matching`]: order-independent comparison of vertices and edges.
 //! - [`grade`]: the verdict and messages for one case.
 //! - [`report`]: text, JSON and Gradescope output.
+//! - [`build_sandbox`]: the launcher that locks a student's build in (used
+//!   by the TA's class grading and the Gradescope bundle).
 //!
 //! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
 //! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
@@ -29,6 +31,7 @@ compile_error!(
      on Windows, work in WSL (Windows Subsystem for Linux)"
 );
 
+pub mod build_sandbox;
 pub mod child;
 pub mod digest;
 pub mod fixture;

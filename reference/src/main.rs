@@ -246,6 +246,7 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
 
 fn main() -> ExitCode {
     grader::sandbox::launch_if_asked();
+    grader::build_sandbox::launch_if_asked();
     let cli = Cli::parse();
     match run(cli.command) {
         Ok(code) => code,
