@@ -283,7 +283,7 @@ impl Report {
     fn write(&self, path: &Path) -> std::io::Result<()> {
         let text = format!(
             "outcome={}\nexit={}\nlandlock={}\nnetwork={}\nuser={}\nmemory={}\nseconds={}\n\
-             peak_kib={}\nerror={}\nprotections={}\n",
+             peak_kib={}\nerror={}\nmessage={}\nprotections={}\n",
             self.outcome.word(),
             self.exit.map(|c| c.to_string()).unwrap_or_default(),
             self.landlock,
@@ -293,6 +293,7 @@ impl Report {
             self.seconds,
             self.peak_kib,
             self.error.replace('\n', " "),
+            self.failure().unwrap_or_default().replace('\n', " "),
             self.protections(),
         );
         std::fs::write(path, text)
