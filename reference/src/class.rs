@@ -753,7 +753,12 @@ fn grade_one(
         .arg(fixtures)
         .args(["--format", "json", "--gradescope"])
         .arg(&results)
-        .current_dir(work);
+        .current_dir(work)
+        // Nothing of the TA's: with CARGO set (as `cargo run -p reference`
+        // sets it) the grader would rebuild the student's crate itself,
+        // outside the build's lock-in and with the TA's environment.
+        .env_clear()
+        .env("PATH", "/usr/bin:/bin");
     if options.bonus {
         grade.arg("--bonus");
     }

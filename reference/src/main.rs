@@ -804,7 +804,6 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 launcher: std::env::current_exe().map_err(|e| e.to_string())?,
                 build_memory: grader::build_sandbox::DEFAULT_MEMORY,
                 build_seconds: None,
-                build_seconds: None,
                 progress: !quiet,
             };
             let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;

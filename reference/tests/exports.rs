@@ -984,9 +984,12 @@ fn class_grading_keeps_the_ta_s_environment_from_the_build() {
             "--out",
             out.to_str().unwrap(),
         ])
-        .args(["--timeout", "1", "--budget", "8", "-q", "--build-dir"])
+        .args(["--timeout", "5", "--budget", "120", "-q", "--build-dir"])
         .arg(&build_dir)
         .env("MESHLAB_TA_SECRET", &token)
+        // As `cargo run -p reference -- class` runs it: the grader must not
+        // rebuild the student's crate outside the lock-in.
+        .env("CARGO", env!("CARGO"))
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&r.stderr);
@@ -1049,5 +1052,62 @@ fn a_build_that_never_ends_is_stopped_and_named() {
         pat.first_failure, "the build did not finish within 15 s",
         "{log}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn without_landlock_dev_zero_meets_the_memory_cap_by_name() {
+    let _turn = take_turn();
+    // Where the kernel has no Landlock, /dev/zero is readable: the compiler
+    // reading it for ever must be stopped by the memory cap, and the
+    // build's end named, not left to the kernel's OOM killer.
+    let dir = scratch("build-zero");
+    let lab = dir.join("lab");
+    reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
+    write(
+        &lab.join("crates/meshedit/src/lib.rs"),
+        &embedding_expr("\"/dev/zero\"", true),
+    );
+    let sysroot = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .current_dir(&lab)
+        .output()
+        .unwrap();
+    let build_dir = class_build_dir();
+    assert!(
+        build_dir.join("vendor").is_dir(),
+        "the class tests vendor the dependencies"
+    );
+    let status = dir.join("status");
+    let build = grader::build_sandbox::Build {
+        lab: lab.clone(),
+        vendor: build_dir.join("vendor"),
+        sysroot: String::from_utf8_lossy(&sysroot.stdout).trim().into(),
+        // The class tests' target folder: the dependencies are compiled.
+        target: build_dir.join("target"),
+        memory: 2 << 30,
+        seconds: 600.0,
+        status: status.clone(),
+        drop_user: false,
+        landlock: false,
+    };
+    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .args(build.args())
+        .env_clear()
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let report = grader::build_sandbox::Report::read(&status).unwrap();
+    assert_eq!(
+        report.outcome,
+        grader::build_sandbox::Outcome::OutOfMemory,
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("the build used more than 2 GiB"),
+        "{stderr}"
+    );
+    assert!(report.protections().contains("Landlock off"), "{report:?}");
+    assert_ne!(out.status.code(), Some(0));
     std::fs::remove_dir_all(&dir).unwrap();
 }
