@@ -508,6 +508,12 @@ fn supervise(build: &Build) -> i32 {
     let errors_file = unsafe { <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(errors_r) };
     let reader = std::thread::spawn(move || pass_on(errors_file));
 
+    // Asked to stop (a TA's Ctrl-C, the caller's SIGTERM): the build's
+    // session goes too, rather than running on without a supervisor.
+    for signal in [libc::SIGTERM, libc::SIGINT, libc::SIGHUP] {
+        // SAFETY: the handler only stores to an atomic.
+        unsafe { libc::signal(signal, on_stop as *const () as libc::sighandler_t) };
+    }
     let limit = Duration::from_secs_f64(build.seconds.max(0.0));
     let mut timed_out = false;
     let mut wait_status = 0;
@@ -517,8 +523,9 @@ fn supervise(build: &Build) -> i32 {
         if done == pid {
             break;
         }
-        if start.elapsed() >= limit {
-            timed_out = true;
+        let stopped = STOP.load(std::sync::atomic::Ordering::Relaxed);
+        if stopped || start.elapsed() >= limit {
+            timed_out = !stopped;
             // SAFETY: the child's session is its process group.
             unsafe {
                 libc::kill(-pid, libc::SIGKILL);
@@ -571,6 +578,13 @@ fn supervise(build: &Build) -> i32 {
         Outcome::Built => 0,
         _ => exit.filter(|c| *c != 0).unwrap_or(1),
     }
+}
+
+/// Set when the launcher is asked to stop.
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+extern "C" fn on_stop(_: libc::c_int) {
+    STOP.store(true, std::sync::atomic::Ordering::Relaxed);
 }
 
 /// Copies the build's standard error to ours; whether a line named the
