@@ -67,6 +67,25 @@ pub struct MeshResult {
     pub returned_edge_ends: Option<[usize; 2]>,
     /// For a returned vertex: where its halfedge leads.
     pub returned_vertex_leads_to: Option<usize>,
+    /// After a split that returned a new vertex, what the contract pins
+    /// down besides the shape: see [`SplitIds`].
+    pub split: Option<SplitIds>,
+}
+
+/// The ids a split must keep sensible, read in the labelling that was sent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SplitIds {
+    /// The new vertex's `is_new` and `new_pos`: a split leaves them at their
+    /// defaults (`false`, zero); subdivision sets them after the call.
+    pub is_new: bool,
+    pub new_pos: [f64; 3],
+    /// The split edge's id, and the vertices it joins now: the new vertex
+    /// and an end of the old edge.
+    pub edge: usize,
+    pub edge_ends: [usize; 2],
+    /// The old faces beside the edge that no longer have the new vertex as
+    /// a corner (each must become one of the triangles around it).
+    pub faces_away: Vec<usize>,
 }
 
 /// Everything the parent needs to judge the case.
@@ -80,7 +99,7 @@ pub enum Outcome {
         after: Counts,
         /// The first thing wrong with the result's links or positions.
         invalid: Option<String>,
-        mesh: Option<MeshResult>,
+        mesh: Option<Box<MeshResult>>,
         /// Every record, positions to the bit, is as it was sent.
         #[serde(default)]
         unchanged: bool,
@@ -276,7 +295,9 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
     // The checks walk a mesh the student's code built: guard them all the same.
     let checked = guarded(|| {
         let invalid = non_finite(&mesh).or_else(|| mesh.validate().err().map(|e| e.to_string()));
-        let result = invalid.is_none().then(|| read_result(&mesh, &returned));
+        let result = invalid
+            .is_none()
+            .then(|| read_result(op, input, &mesh, &returned));
         (invalid, result)
     });
     let (invalid, result) = checked.unwrap_or_else(|(message, _)| {
@@ -290,18 +311,48 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
         before: Counts::of(input),
         after: Counts::of(&mesh),
         invalid,
-        mesh: result,
+        mesh: result.map(Box::new),
         unchanged,
     }
 }
 
-fn read_result(mesh: &Mesh, returned: &Returned) -> MeshResult {
+/// What a split left on the ids it was given (`e` and its faces in the
+/// input), for a mesh that validated.
+fn split_ids(input: &Mesh, mesh: &Mesh, e: EdgeId, m: VertexId) -> Option<SplitIds> {
+    if e.index() >= input.num_edges() || e.index() >= mesh.num_edges() {
+        return None;
+    }
+    let h = input[e].halfedge;
+    let faces_away = [h, input[h].twin]
+        .into_iter()
+        .map(|h| input[h].face)
+        .filter(|&f| !input[f].is_boundary && f.index() < mesh.num_faces())
+        .filter(|&f| !mesh.face_vertices(f).contains(&m))
+        .map(|f| f.index())
+        .collect();
+    let (a, b) = mesh.edge_vertices(e);
+    Some(SplitIds {
+        is_new: mesh[m].is_new,
+        new_pos: mesh[m].new_pos.to_array(),
+        edge: e.index(),
+        edge_ends: [a.index(), b.index()],
+        faces_away,
+    })
+}
+
+fn read_result(op: Op, input: &Mesh, mesh: &Mesh, returned: &Returned) -> MeshResult {
     let mut result = MeshResult {
         positions: mesh.positions().iter().map(|p| p.to_array()).collect(),
         edges: mesh.edge_list(),
         returned_edge_ends: None,
         returned_vertex_leads_to: None,
+        split: None,
     };
+    if let (Op::Split(e), Returned::Vertex { id, .. }) = (op, returned) {
+        if (*id as usize) < mesh.num_vertices() {
+            result.split = split_ids(input, mesh, e, VertexId(*id));
+        }
+    }
     match *returned {
         Returned::Edge { got, .. } if (got as usize) < mesh.num_edges() => {
             let (a, b) = mesh.edge_vertices(EdgeId(got));

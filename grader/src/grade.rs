@@ -3,8 +3,8 @@
 
 use serde::Serialize;
 
-use crate::child::{Counts, MeshResult, Outcome, Returned};
-use crate::fixture::{Expected, Fixture, Group, Operation, Returns, Stage};
+use crate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
+use crate::fixture::{Fixture, Group, Operation, Returns, Stage};
 use crate::matching::{self, VertexMatch};
 use crate::runner::{ChildReport, Run};
 
@@ -256,7 +256,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             (*before, *after),
             *unchanged,
             invalid.as_deref(),
-            mesh.as_ref(),
+            mesh.as_deref(),
             log,
         ),
     }
@@ -339,7 +339,7 @@ fn judge_finished(
     let Some(matched) = compare_vertices(f, mesh, before, log) else {
         return;
     };
-    if !compare_edges(&f.expected, mesh, &matched, log) {
+    if !compare_edges(f, mesh, before, &matched, log) {
         return;
     }
     check_returned_shape(f, returned, mesh, &matched, log);
@@ -475,7 +475,9 @@ fn check_counts(f: &Fixture, before: Counts, after: Counts, log: &mut Log) -> bo
                 halfedges: before.halfedges + 2 + 2 * divided,
             }
         }
-        (Operation::Subdivide { .. }, _) => return true,
+        (Operation::Subdivide { rounds }, _) => {
+            return check_subdivided_counts(f, before, after, *rounds, log)
+        }
     };
     if after == expected {
         return true;
@@ -507,6 +509,115 @@ fn check_counts(f: &Fixture, before: Counts, after: Counts, log: &mut Log) -> bo
     false
 }
 
+/// What `rounds` of the lab's subdivision make of the input's counts: each
+/// round adds a vertex per edge (V' = V + E), splits every edge in two and
+/// adds three inside every triangle (E' = 2E + 3T), and makes every
+/// triangle four (T' = 4T); holes stay holes.
+struct Subdivided {
+    vertices: usize,
+    edges: usize,
+    triangles: usize,
+    holes: usize,
+}
+
+fn subdivided(f: &Fixture, before: Counts, rounds: usize) -> Subdivided {
+    let triangles = f.input.faces.len();
+    let mut s = Subdivided {
+        vertices: before.vertices,
+        edges: before.edges,
+        triangles,
+        holes: before.faces.saturating_sub(triangles),
+    };
+    for _ in 0..rounds {
+        s.vertices += s.edges;
+        s.edges = 2 * s.edges + 3 * s.triangles;
+        s.triangles *= 4;
+    }
+    s
+}
+
+/// The plain-words account of a subdivision's counts, for the first count
+/// that is off.
+fn counts_rule(f: &Fixture, before: Counts, rounds: usize) -> String {
+    let want = subdivided(f, before, rounds);
+    let t = f.input.faces.len();
+    let holes = if want.holes > 0 {
+        format!(
+            " (and {} hole{}, which stay holes)",
+            want.holes,
+            if want.holes == 1 { "" } else { "s" }
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "each round adds one vertex per edge (V' = V + E), splits every edge in two and adds three \
+         inside every triangle (E' = 2E + 3F), and makes every triangle four (F' = 4F): from {} \
+         vertices, {} edges and {t} triangles{holes}, {rounds} round{} {} vertices, {} edges, {} \
+         triangles",
+        before.vertices,
+        before.edges,
+        if rounds == 1 { " gives" } else { "s give" },
+        want.vertices,
+        want.edges,
+        want.triangles
+    )
+}
+
+/// Subdivision's counts: vertices first (their message and hints are
+/// [`compare_vertices`]'s), then edges, then faces, before any shape.
+fn check_subdivided_counts(
+    f: &Fixture,
+    before: Counts,
+    after: Counts,
+    rounds: usize,
+    log: &mut Log,
+) -> bool {
+    let want = subdivided(f, before, rounds);
+    if after.vertices != want.vertices {
+        return true;
+    }
+    if after.edges != want.edges {
+        say!(
+            log,
+            Warn,
+            "number of edges is wrong: {} (should be {})",
+            after.edges,
+            want.edges
+        );
+        say!(log, Detail, "{}", counts_rule(f, before, rounds));
+        say!(log, Detail, "the vertices are counted right, so the edges made around each new vertex are off: split_edge adds 3 edges (2 beside a hole)");
+        return false;
+    }
+    let faces = want.triangles + want.holes;
+    if after.faces != faces {
+        say!(
+            log,
+            Warn,
+            "number of faces is wrong: {} (should be {faces})",
+            after.faces
+        );
+        say!(log, Detail, "{}", counts_rule(f, before, rounds));
+        say!(
+            log,
+            Detail,
+            "split_edge adds 2 faces (1 beside a hole); a flip adds none"
+        );
+        return false;
+    }
+    true
+}
+
+/// How many of the expected result's vertices were there before the last
+/// operation (the reference keeps their ids and appends new ones): the
+/// input's for a flip or split, the last round's input for subdivision.
+fn old_vertices(f: &Fixture, before: Counts) -> usize {
+    match f.operation {
+        Operation::Subdivide { rounds } => subdivided(f, before, rounds.saturating_sub(1)).vertices,
+        _ => before.vertices,
+    }
+}
+
 fn compare_vertices(
     f: &Fixture,
     mesh: &MeshResult,
@@ -522,7 +633,8 @@ fn compare_vertices(
             Warn,
             "number of vertices is wrong: {got} (should be {want})"
         );
-        if let Operation::Subdivide { .. } = f.operation {
+        if let Operation::Subdivide { rounds } = f.operation {
+            say!(log, Detail, "{}", counts_rule(f, before, rounds));
             if got == before.vertices {
                 say!(log, Detail, "hint: no vertex was added: does loop_subdivide call split_edge on every old edge?");
             } else if got > want {
@@ -553,6 +665,18 @@ fn compare_vertices(
             "{wrong} of {want} expected vertices have no vertex of yours within {} of them",
             f.tolerance
         );
+        if let Operation::Subdivide { .. } = f.operation {
+            let old = old_vertices(f, before);
+            let old_wrong = m.unmatched_expected.iter().filter(|&&i| i < old).count();
+            let new_wrong = wrong - old_wrong;
+            let new = want - old;
+            let text = match (old_wrong, new_wrong) {
+                (0, n) => format!("every old vertex is right; {n} of {new} new vertices are wrong: look at the edge rule (3/8 of the edge's ends, 1/8 of the two far corners, each from the mesh before any change)"),
+                (o, 0) => format!("every new vertex is right; {o} of {old} old vertices are wrong: look at the vertex rule (u = 3/16 when n = 3, else 3/(8n), from the neighbours' old positions)"),
+                (o, n) => format!("{o} of {old} old vertices and {n} of {new} new vertices are wrong"),
+            };
+            say!(log, Detail, "{text}");
+        }
         if let Some(&i) = m.unmatched_expected.first() {
             let p = expected.positions[i];
             say!(log, Detail, "expected a vertex at {}", fmt_p(p));
@@ -579,7 +703,14 @@ fn compare_vertices(
     Some(m)
 }
 
-fn compare_edges(expected: &Expected, mesh: &MeshResult, m: &VertexMatch, log: &mut Log) -> bool {
+fn compare_edges(
+    f: &Fixture,
+    mesh: &MeshResult,
+    before: Counts,
+    m: &VertexMatch,
+    log: &mut Log,
+) -> bool {
+    let expected = &f.expected;
     say!(log, Info, "compare all edges...");
     let (got, want) = (mesh.edges.len(), expected.edges.len());
     if got != want {
@@ -638,6 +769,9 @@ fn compare_edges(expected: &Expected, mesh: &MeshResult, m: &VertexMatch, log: &
             "two of your edges join the same pair of vertices"
         );
     }
+    if let Operation::Subdivide { .. } = f.operation {
+        edge_kinds(&diff.missing, &diff.extra, old_vertices(f, before), log);
+    }
     for mistake in &expected.mistakes {
         if let Some(edges) = &mistake.edges {
             if matching::diff_edges(&mine, edges).is_empty() {
@@ -647,6 +781,61 @@ fn compare_edges(expected: &Expected, mesh: &MeshResult, m: &VertexMatch, log: &
         }
     }
     false
+}
+
+/// Which kinds of vertex the missing and extra edges of a subdivision join
+/// (old: there before the last round), and what that usually means.
+fn edge_kinds(missing: &[[usize; 2]], extra: &[[usize; 2]], old: usize, log: &mut Log) {
+    // [old-old, old-new, new-new]
+    let tally = |edges: &[[usize; 2]]| {
+        let mut k = [0usize; 3];
+        for &[a, b] in edges {
+            k[usize::from(a >= old) + usize::from(b >= old)] += 1;
+        }
+        k
+    };
+    let describe = |k: [usize; 3]| {
+        let names = [
+            "two old vertices",
+            "an old and a new vertex",
+            "two new vertices",
+        ];
+        let parts: Vec<String> = k
+            .iter()
+            .zip(names)
+            .filter(|(n, _)| **n > 0)
+            .map(|(n, what)| format!("{n} join {what}"))
+            .collect();
+        parts.join(", ")
+    };
+    let (lost, added) = (tally(missing), tally(extra));
+    if missing.is_empty() && extra.is_empty() {
+        return;
+    }
+    say!(
+        log,
+        Detail,
+        "of the missing edges {}; of your extra edges {}",
+        if missing.is_empty() {
+            "none".to_string()
+        } else {
+            describe(lost)
+        },
+        if extra.is_empty() {
+            "none".to_string()
+        } else {
+            describe(added)
+        }
+    );
+    if added[2] > 0 && lost[1] > 0 {
+        say!(log, Detail, "were edges between two new vertices flipped? flip only new edges that join an old and a new vertex");
+    } else if lost[2] > 0 && added[1] > 0 {
+        say!(
+            log,
+            Detail,
+            "new edges joining an old and a new vertex were left unflipped: flip each of them once"
+        );
+    }
 }
 
 /// What the returned element looks like in the result: the flipped edge's
@@ -688,8 +877,62 @@ fn check_returned_shape(
                 );
                 say!(log, Detail, "mesh[v{id}].halfedge must lead to vertex {a} or {b}, the ends of the edge that was split");
             }
+            if let Some(ids) = &mesh.split {
+                check_split_ids(ids, *id, [a, b], &to_expected, log);
+            }
         }
         _ => {}
+    }
+}
+
+/// The contract's rules on ids after a split: the new vertex keeps its
+/// defaults, the edge's id names one half of the old edge, the old faces
+/// are triangles around the new vertex.
+fn check_split_ids(
+    ids: &SplitIds,
+    m: u32,
+    [a, b]: [usize; 2],
+    to_expected: &dyn Fn(usize) -> Option<usize>,
+    log: &mut Log,
+) {
+    if ids.is_new || ids.new_pos != [0.0; 3] {
+        say!(
+            log,
+            Warn,
+            "split_edge set is_new or new_pos on the new vertex: a split leaves them false and zero (loop_subdivide sets them after the call)"
+        );
+        say!(
+            log,
+            Detail,
+            "mesh[v{m}].is_new is {}, mesh[v{m}].new_pos is {}",
+            ids.is_new,
+            fmt_p(ids.new_pos)
+        );
+    }
+    let [x, y] = ids.edge_ends;
+    let other = if x == m as usize { y } else { x };
+    let half = (x == m as usize || y == m as usize)
+        && matches!(to_expected(other), Some(o) if o == a || o == b);
+    if !half {
+        say!(
+            log,
+            Warn,
+            "after split_edge, edge e{} is not half of the edge that was split: it must join the new vertex to one of its ends",
+            ids.edge
+        );
+        say!(
+            log,
+            Detail,
+            "e{} joins v{x} and v{y}; the new vertex is v{m}",
+            ids.edge
+        );
+    }
+    if let Some(f) = ids.faces_away.first() {
+        say!(
+            log,
+            Warn,
+            "after split_edge, face f{f} is not one of the triangles around the new vertex: each old face beside the edge must become one of them"
+        );
     }
 }
 

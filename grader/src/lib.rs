@@ -44,6 +44,8 @@ pub mod runner;
 pub mod sandbox;
 pub mod seccomp;
 pub mod trial;
+#[cfg(unix)]
+pub mod watch;
 pub mod wire;
 
 use std::ffi::OsString;
@@ -146,6 +148,13 @@ pub struct Cli {
     /// not a terminal).
     #[arg(long)]
     pub no_color: bool,
+    /// Grade, then grade again every time crates/meshedit/src/lib.rs is
+    /// saved (a save during a run starts it over); Ctrl-C stops.
+    #[arg(short, long)]
+    pub watch: bool,
+    /// The file --watch follows (for the lab's own tests).
+    #[arg(long, hide = true, value_name = "PATH", requires = "watch")]
+    pub watch_file: Option<PathBuf>,
 }
 
 /// `2G`, `512M`, `1.5G` or a number of bytes, between 64 MiB and 64 GiB.
@@ -241,16 +250,22 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
             Some(name) => name.to_string(),
         };
         let target = dir.parent().ok_or("this program's folder has no parent")?;
-        let status = std::process::Command::new(cargo)
+        // `cargo run -p grader` compiled crates/meshedit just before (this
+        // package depends on it) and showed its warnings; cargo would replay
+        // them here, so its output is shown only if this build fails.
+        let built = std::process::Command::new(cargo)
             .args(["build", "--quiet", "-p", "grader", "--bin", "grader-child"])
             .arg("--profile")
             .arg(&profile)
             .arg("--target-dir")
             .arg(target)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .status()
+            .stdin(std::process::Stdio::null())
+            .output()
             .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if !status.success() {
+        if !built.status.success() {
+            use std::io::Write;
+            let _ = std::io::stderr().write_all(&built.stderr);
             return Err(
                 "your code does not compile: the compiler's messages are above".to_string(),
             );
@@ -492,6 +507,11 @@ fn partial_run(cli: &Cli) -> Option<String> {
 
 /// Grades per the command line, running the cases in `program`.
 pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
+    #[cfg(unix)]
+    if cli.watch && !watch::is_inner() {
+        let file = cli.watch_file.clone().unwrap_or_else(watch::default_file);
+        return watch::watch(&file);
+    }
     if !(cli.timeout >= 0.1 && cli.timeout <= 3600.0) {
         return usage_error(&format!(
             "--timeout {} is out of range: give a number of seconds from 0.1 to 3600",

@@ -375,21 +375,106 @@ pub const STARTED_TAG: u8 = TAG_STARTED;
 mod tests {
     use super::*;
 
+    /// Every field of every record, floats by their bits.
+    fn fields(m: &Mesh) -> Vec<Vec<u64>> {
+        let (v, e, f, h) = m.records();
+        let bits = |p: halfedge::DVec3| p.to_array().map(f64::to_bits);
+        let mut out = Vec::new();
+        for v in v {
+            let mut r = vec![v.is_new as u64, v.halfedge.0 as u64];
+            r.extend(bits(v.pos));
+            r.extend(bits(v.new_pos));
+            out.push(r);
+        }
+        for e in e {
+            let mut r = vec![e.is_new as u64, e.halfedge.0 as u64];
+            r.extend(bits(e.new_pos));
+            out.push(r);
+        }
+        for f in f {
+            out.push(vec![f.is_boundary as u64, f.halfedge.0 as u64]);
+        }
+        for h in h {
+            out.push(
+                [h.twin.0, h.next.0, h.vertex.0, h.edge.0, h.face.0]
+                    .map(u64::from)
+                    .to_vec(),
+            );
+        }
+        out
+    }
+
     fn same(a: &Mesh, b: &Mesh) -> bool {
-        let (x, y) = (a.records(), b.records());
-        let bits = |v: &[Vertex]| -> Vec<[u64; 3]> {
-            v.iter()
-                .map(|v| v.pos.to_array().map(f64::to_bits))
-                .collect()
+        fields(a) == fields(b)
+    }
+
+    /// A mesh with a hole whose every field holds something other than what
+    /// building it gives: flags set on some records, `new_pos` everywhere,
+    /// vertices and faces pointing at another of their halfedges, a NaN and
+    /// a negative zero.
+    fn unusual() -> Mesh {
+        let grid = halfedge::shapes::grid(2, 3);
+        let (vs, es, fs, hs) = grid.records();
+        let (mut vs, mut es, mut fs, hs) = (vs.to_vec(), es.to_vec(), fs.to_vec(), hs.to_vec());
+        for (i, v) in vs.iter_mut().enumerate() {
+            v.is_new = i % 2 == 0;
+            v.new_pos = halfedge::DVec3::new(i as f64 + 0.25, -(i as f64), 1e-300);
+            // Another halfedge leaving v: the one after the twin of its own.
+            v.halfedge = hs[hs[v.halfedge.index()].twin.index()].next;
+        }
+        for (i, e) in es.iter_mut().enumerate() {
+            e.is_new = i % 3 != 0;
+            e.new_pos = halfedge::DVec3::new(0.5, i as f64 * 1.5, -2.0);
+            e.halfedge = hs[e.halfedge.index()].twin;
+        }
+        for f in fs.iter_mut() {
+            f.halfedge = hs[f.halfedge.index()].next;
+        }
+        vs[2].pos.x = f64::NAN;
+        vs[3].pos.y = -0.0;
+        // The wire carries records as they are, valid or not.
+        Mesh::from_records(vs, es, fs, hs)
+    }
+
+    /// A change made to a mesh's four arenas.
+    type Change = dyn Fn(&mut [Vertex], &mut [Edge], &mut [Face], &mut [Halfedge]);
+
+    #[test]
+    fn the_comparison_sees_every_field() {
+        let m = unusual();
+        let (vs, es, fs, hs) = m.records();
+        assert!(fs.iter().any(|f| f.is_boundary), "the grid has a hole");
+        assert!(vs.iter().any(|v| v.is_new) && es.iter().any(|e| e.is_new));
+        let rebuilt = |change: &Change| {
+            let (mut v, mut e, mut f, mut h) = (vs.to_vec(), es.to_vec(), fs.to_vec(), hs.to_vec());
+            change(&mut v, &mut e, &mut f, &mut h);
+            Mesh::from_records(v, e, f, h)
         };
-        bits(x.0) == bits(y.0) && x.1 == y.1 && x.2 == y.2 && x.3 == y.3
+        let changes: [&Change; 13] = [
+            &|v, _, _, _| v[1].pos.z += 1.0,
+            &|v, _, _, _| v[1].new_pos.y += 1.0,
+            &|v, _, _, _| v[1].is_new = !v[1].is_new,
+            &|v, _, _, _| v[1].halfedge = HalfedgeId(v[1].halfedge.0 ^ 1),
+            &|_, e, _, _| e[1].new_pos.x += 1.0,
+            &|_, e, _, _| e[1].is_new = !e[1].is_new,
+            &|_, e, _, _| e[1].halfedge = HalfedgeId(e[1].halfedge.0 ^ 1),
+            &|_, _, f, _| f[1].halfedge = HalfedgeId(f[1].halfedge.0 ^ 1),
+            &|_, _, f, _| f[1].is_boundary = !f[1].is_boundary,
+            &|_, _, _, h| h[1].twin = HalfedgeId(h[1].twin.0 ^ 1),
+            &|_, _, _, h| h[1].next = HalfedgeId(h[1].next.0 ^ 1),
+            &|_, _, _, h| h[1].vertex = VertexId(h[1].vertex.0 ^ 1),
+            &|_, _, _, h| h[1].edge = EdgeId(h[1].edge.0 ^ 1),
+        ];
+        for (i, change) in changes.iter().enumerate() {
+            assert!(!same(&m, &rebuilt(change)), "change {i} unseen");
+        }
+        let face_change = rebuilt(&|_, _, _, h| h[1].face = FaceId(h[1].face.0 ^ 1));
+        assert!(!same(&m, &face_change), "a halfedge's face unseen");
     }
 
     #[test]
     fn a_request_round_trips_exactly() {
-        let mut mesh = halfedge::shapes::lab_object("cone").unwrap();
-        mesh[VertexId(2)].pos.x = f64::NAN;
-        mesh[VertexId(3)].pos.y = -0.0;
+        let mesh = unusual();
         let req = Request {
             op: Op::Split(EdgeId(4)),
             budget: 1234,
@@ -400,11 +485,19 @@ mod tests {
         assert_eq!(back.budget, 1234);
         assert!(same(&back.mesh, &req.mesh));
         assert!(back.mesh[VertexId(2)].pos.x.is_nan());
+        for op in [Op::Flip(EdgeId(7)), Op::Subdivide { rounds: 3 }] {
+            let req = Request {
+                op,
+                budget: 1,
+                mesh: unusual(),
+            };
+            assert_eq!(Request::decode(&req.encode()).unwrap().op, op);
+        }
     }
 
     #[test]
     fn frames_round_trip() {
-        let mesh = halfedge::shapes::lab_object("cube").unwrap();
+        let mesh = unusual();
         let mut bytes = sandbox_frame("landlock v6");
         bytes.extend(started_frame());
         bytes.extend(result_frame(&Ran::Returned {

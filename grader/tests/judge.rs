@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use grader::child::{Counts, MeshResult, Outcome, Returned};
+use grader::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
 use grader::fixture::{self, Fixture, Returns};
 use grader::grade::{judge, CaseReport, Level};
 use grader::runner::{ChildReport, Run};
@@ -19,28 +19,71 @@ fn load(rel: &str) -> Fixture {
     Fixture::from_json(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
 }
 
-fn input_boundary_loops(f: &Fixture) -> usize {
-    if f.group == fixture::Group::Bonus {
-        1
-    } else {
-        0
-    }
-}
-
-fn input_counts(f: &Fixture) -> Counts {
-    let faces = f.input.faces.len() + input_boundary_loops(f);
-    let mut edges = std::collections::BTreeSet::new();
+/// The input's edges as sorted pairs, each with the number of faces it
+/// borders (1 on a hole's rim).
+fn input_edges(f: &Fixture) -> std::collections::BTreeMap<(usize, usize), usize> {
+    let mut edges = std::collections::BTreeMap::new();
     for face in &f.input.faces {
         for i in 0..face.len() {
             let (a, b) = (face[i], face[(i + 1) % face.len()]);
-            edges.insert((a.min(b), a.max(b)));
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
         }
     }
+    edges
+}
+
+/// How many holes the input has: connected runs of rim edges (the lab's
+/// meshes have no two holes touching at a vertex).
+fn input_holes(f: &Fixture) -> usize {
+    let mut parent: Vec<usize> = (0..f.input.positions.len()).collect();
+    fn find(parent: &mut [usize], mut v: usize) -> usize {
+        while parent[v] != v {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        v
+    }
+    let rim: Vec<(usize, usize)> = input_edges(f)
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|(e, _)| e)
+        .collect();
+    let mut on_rim = std::collections::BTreeSet::new();
+    for &(a, b) in &rim {
+        on_rim.extend([a, b]);
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        parent[ra] = rb;
+    }
+    let roots: std::collections::BTreeSet<usize> =
+        on_rim.into_iter().map(|v| find(&mut parent, v)).collect();
+    roots.len()
+}
+
+/// Counts of the mesh the library builds from the input: a face per
+/// polygon and per hole, two halfedges per edge.
+fn input_counts(f: &Fixture) -> Counts {
+    let edges = input_edges(f).len();
     Counts {
         vertices: f.input.positions.len(),
-        edges: edges.len(),
-        faces,
-        halfedges: 2 * edges.len(),
+        edges,
+        faces: f.input.faces.len() + input_holes(f),
+        halfedges: 2 * edges,
+    }
+}
+
+/// Counts of the expected result, from its own vertices and edges; faces
+/// (holes included) from the Euler characteristic V - E + F, which a split
+/// and a subdivision keep: an argument apart from the grader's count of
+/// divided triangles and its rule per round.
+fn expected_counts(f: &Fixture) -> Counts {
+    let before = input_counts(f);
+    let euler = before.vertices as i64 - before.edges as i64 + before.faces as i64;
+    let (v, e) = (f.expected.positions.len(), f.expected.edges.len());
+    Counts {
+        vertices: v,
+        edges: e,
+        faces: (euler - v as i64 + e as i64) as usize,
+        halfedges: 2 * e,
     }
 }
 
@@ -52,6 +95,7 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         edges: e.edges.clone(),
         returned_edge_ends: None,
         returned_vertex_leads_to: None,
+        split: None,
     };
     let returned = match (&e.returns, f.operation) {
         (None, _) => Returned::Unit,
@@ -62,6 +106,14 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         }
         (Some(Returns::Vertex { position }), fixture::Operation::Split { edge }) => {
             mesh.returned_vertex_leads_to = Some(edge[1]);
+            let m = e.positions.len() - 1;
+            mesh.split = Some(SplitIds {
+                is_new: false,
+                new_pos: [0.0; 3],
+                edge: 0,
+                edge_ends: [m, edge[0]],
+                faces_away: Vec::new(),
+            });
             Returned::Vertex {
                 id: e.positions.len() as u32 - 1,
                 position: Some(*position),
@@ -69,23 +121,8 @@ fn perfect(f: &Fixture) -> (Returned, Counts, MeshResult) {
         }
         _ => unreachable!(),
     };
-    let before = input_counts(f);
-    let after = match f.operation {
-        fixture::Operation::Flip { .. } => before,
-        fixture::Operation::Split { .. } if e.returns == Some(Returns::Refused) => before,
-        fixture::Operation::Split { .. } => {
-            let divided = e.edges.len() - before.edges - 1;
-            Counts {
-                vertices: before.vertices + 1,
-                edges: before.edges + 1 + divided,
-                faces: before.faces + divided,
-                halfedges: before.halfedges + 2 + 2 * divided,
-            }
-        }
-        // Subdivision is judged on positions and edges, not counts.
-        fixture::Operation::Subdivide { .. } => before,
-    };
-    (returned, after, mesh)
+    // Splits and subdivision keep the Euler characteristic: faces follow.
+    (returned, expected_counts(f), mesh)
 }
 
 fn finished(
@@ -100,7 +137,7 @@ fn finished(
             before: input_counts(f),
             after,
             invalid: invalid.map(str::to_string),
-            mesh,
+            mesh: mesh.map(Box::new),
             // A refusal that returns None is taken to have left the mesh alone.
             unchanged: returned == Returned::Nothing,
             returned,
@@ -439,7 +476,7 @@ fn flip_return_values_and_counts() {
 
 #[test]
 fn refusing_boundary_edges() {
-    let f = load("bonus/grid-flip-boundary.json");
+    let f = load("lab/grid-flip-boundary.json");
     let (_, after, mesh) = perfect(&f);
     let r = finished(
         &f,
@@ -505,14 +542,64 @@ fn split_checks() {
     let across = (0..f.input.positions.len())
         .find(|&c| c != a && c != b)
         .unwrap();
-    let mut astray = mesh;
+    let mut astray = mesh.clone();
     astray.returned_vertex_leads_to = Some(across);
-    let r = finished(&f, returned, after, None, Some(astray));
+    let r = finished(&f, returned.clone(), after, None, Some(astray));
     assert_fails_with(
         &r,
         "the new vertex's halfedge does not run along the split edge",
     );
     assert_detail(&r, &format!("must lead to vertex {a} or {b}"));
+
+    // The ids the contract pins down.
+    let with_ids = |change: &dyn Fn(&mut SplitIds)| {
+        let mut m = mesh.clone();
+        change(m.split.as_mut().unwrap());
+        finished(&f, returned.clone(), after, None, Some(m))
+    };
+    let r = with_ids(&|s| s.is_new = true);
+    assert_fails_with(&r, "split_edge set is_new or new_pos on the new vertex: a split leaves them false and zero (loop_subdivide sets them after the call)");
+    assert_detail(&r, &format!("mesh[v{id}].is_new is true"));
+    let r = with_ids(&|s| s.new_pos = [0.0, 0.5, 0.0]);
+    assert_fails_with(&r, "split_edge set is_new or new_pos on the new vertex: a split leaves them false and zero (loop_subdivide sets them after the call)");
+    let r = with_ids(&|s| s.edge_ends = [id as usize, across]);
+    assert_fails_with(&r, "after split_edge, edge e0 is not half of the edge that was split: it must join the new vertex to one of its ends");
+    let r = with_ids(&|s| s.edge_ends = [a, b]);
+    assert_fails_with(&r, "after split_edge, edge e0 is not half of the edge that was split: it must join the new vertex to one of its ends");
+    let r = with_ids(&|s| s.faces_away = vec![3]);
+    assert_fails_with(&r, "after split_edge, face f3 is not one of the triangles around the new vertex: each old face beside the edge must become one of them");
+    let r = with_ids(&|s| s.edge_ends = [b, id as usize]);
+    assert!(
+        r.passed,
+        "e as the other half passes too: {:?}",
+        lines(&r, Level::Warn)
+    );
+}
+
+/// The counts the tests feed the judge, against counts made by hand from
+/// the meshes' pictures.
+#[test]
+fn the_tests_counts_are_the_hand_counts() {
+    let c = |vertices, edges, faces, halfedges| Counts {
+        vertices,
+        edges,
+        faces,
+        halfedges,
+    };
+    // The cube: 8 corners, 12 sides + 6 diagonals, 12 triangles.
+    let cube = load("lab/cube-split.json");
+    assert_eq!(input_counts(&cube), c(8, 18, 12, 36));
+    // A split adds the midpoint, the other half and two edges across, two faces.
+    assert_eq!(expected_counts(&cube), c(9, 21, 14, 42));
+    // The 3x3 grid: 16 vertices, 24 sides + 9 diagonals, 18 triangles and a hole.
+    let grid = load("bonus/grid-split-boundary.json");
+    assert_eq!(input_counts(&grid), c(16, 33, 19, 66));
+    // Beside a hole only one triangle is divided: one edge across, one face.
+    assert_eq!(expected_counts(&grid), c(17, 35, 20, 70));
+    // The octahedron without a face: 7 triangles and a triangular hole.
+    let open = load("lab/open-octahedron-flip.json");
+    assert_eq!(input_counts(&open), c(6, 12, 8, 24));
+    assert_eq!(expected_counts(&open), c(6, 12, 8, 24));
 }
 
 #[test]
@@ -622,4 +709,86 @@ fn opts(color: bool) -> grader::report::TextOptions {
         protections: "protections: test".into(),
         ..Default::default()
     }
+}
+
+#[test]
+fn subdivision_counts_come_before_shape_in_plain_words() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mesh) = perfect(&f);
+    // The hand counts of the lab's cube after one round (shared/README.md).
+    assert_eq!((after.vertices, after.edges), (26, 72));
+    let mut more_edges = after;
+    more_edges.edges += 1;
+    more_edges.halfedges += 2;
+    let r = finished(&f, returned.clone(), more_edges, None, Some(mesh.clone()));
+    assert_fails_with(&r, "number of edges is wrong: 73 (should be 72)");
+    assert_detail(&r, "from 8 vertices, 18 edges and 12 triangles, 1 round gives 26 vertices, 72 edges, 48 triangles");
+    let mut fewer_faces = after;
+    fewer_faces.faces -= 2;
+    let r = finished(&f, returned.clone(), fewer_faces, None, Some(mesh.clone()));
+    assert_fails_with(&r, "number of faces is wrong: 46 (should be 48)");
+
+    // Only the new vertices (ids 8 and up) moved: the edge rule.
+    let mut new_moved = mesh.clone();
+    for p in &mut new_moved.positions[8..] {
+        p[1] += 0.01;
+    }
+    let r = finished(&f, returned.clone(), after, None, Some(new_moved));
+    assert_fails_with(&r, "at least one of the vertices has incorrect position");
+    assert_detail(
+        &r,
+        "every old vertex is right; 18 of 18 new vertices are wrong: look at the edge rule",
+    );
+    let mut old_moved = mesh.clone();
+    for p in &mut old_moved.positions[..3] {
+        p[0] += 0.01;
+    }
+    let r = finished(&f, returned.clone(), after, None, Some(old_moved));
+    assert_detail(
+        &r,
+        "every new vertex is right; 3 of 8 old vertices are wrong: look at the vertex rule",
+    );
+
+    // Two rounds: the old vertices are the first round's 26.
+    let g = load("lab/cube-subdivide-2.json");
+    let (returned2, after2, mesh2) = perfect(&g);
+    let mut last_new = mesh2;
+    for p in &mut last_new.positions[26..] {
+        p[2] -= 0.01;
+    }
+    let r = finished(&g, returned2, after2, None, Some(last_new));
+    assert_detail(
+        &r,
+        &format!(
+            "every old vertex is right; {} of {} new vertices are wrong",
+            after2.vertices - 26,
+            after2.vertices - 26
+        ),
+    );
+}
+
+#[test]
+fn wrong_subdivision_edges_say_which_vertices_they_join() {
+    let f = load("lab/cube-subdivide-1.json");
+    let (returned, after, mesh) = perfect(&f);
+    // One edge between two new vertices (x, y) moved to join x and an old
+    // vertex z instead: as if an old-new edge had stayed unflipped.
+    let (i, &[x, _]) = mesh
+        .edges
+        .iter()
+        .enumerate()
+        .find(|(_, e)| e[0] >= 8 && e[1] >= 8)
+        .expect("a new-new edge");
+    let z = (0..8)
+        .find(|&z| !mesh.edges.iter().any(|e| e == &[x, z] || e == &[z, x]))
+        .expect("an old vertex not joined to x");
+    let mut swapped = mesh.clone();
+    swapped.edges[i] = [x, z];
+    let r = finished(&f, returned, after, None, Some(swapped));
+    assert_fails_with(&r, "at least one of the edges connects incorrect vertices");
+    assert_detail(&r, "of the missing edges 1 join two new vertices; of your extra edges 1 join an old and a new vertex");
+    assert_detail(
+        &r,
+        "new edges joining an old and a new vertex were left unflipped",
+    );
 }

@@ -26,7 +26,7 @@ pub struct Case {
     pub tolerance: f64,
 }
 
-fn ends(mesh: &Mesh, e: EdgeId) -> [usize; 2] {
+pub(crate) fn ends(mesh: &Mesh, e: EdgeId) -> [usize; 2] {
     let (a, b) = mesh.edge_vertices(e);
     [a.index(), b.index()]
 }
@@ -77,7 +77,7 @@ fn split_edge_choice(mesh: &Mesh) -> [usize; 2] {
     ends(mesh, e)
 }
 
-fn case(
+pub(crate) fn case(
     name: &str,
     object: &str,
     group: Group,
@@ -162,12 +162,27 @@ pub fn builtin(weights: Weights) -> Vec<Case> {
         .find(|&e| grid.edge_on_boundary(e))
         .expect("a grid has a rim");
     let rim = ends(&grid, rim);
+    // The boundary refusal is the contract's, so it counts; only boundary
+    // support (splitting and subdividing beside holes) is bonus.
     out.push(case(
         "grid-flip-boundary",
         "open grid",
-        Group::Bonus,
+        Group::Lab,
         &grid,
-        Operation::Flip { edge: rim },
+        Operation::Flip {
+            edge: ends(&grid, rim_edge_only_the_boundary_refuses(&grid)),
+        },
+        weights,
+    ));
+    let open = open_octahedron();
+    out.push(case(
+        "open-octahedron-flip",
+        "octahedron with a triangular hole",
+        Group::Lab,
+        &open,
+        Operation::Flip {
+            edge: ends(&open, rim_edge_only_the_boundary_refuses(&open)),
+        },
         weights,
     ));
     out.push(case(
@@ -339,7 +354,7 @@ fn contract_cases(out: &mut Vec<Case>, weights: Weights) {
     out.push(case(
         "tetrahedron-flip",
         "tetrahedron",
-        Group::Bonus,
+        Group::Lab,
         &tetra,
         Operation::Flip { edge: [0, 1] },
         weights,
@@ -363,39 +378,75 @@ fn contract_cases(out: &mut Vec<Case>, weights: Weights) {
     ));
 }
 
+/// An octahedron's six corners, centred at (`cx`, 0, 0): +x, -x, +y, -y,
+/// +z, -z.
+fn octahedron_corners(cx: f64) -> Vec<[f64; 3]> {
+    vec![
+        [cx + 1.0, 0.0, 0.0],
+        [cx - 1.0, 0.0, 0.0],
+        [cx, 1.0, 0.0],
+        [cx, -1.0, 0.0],
+        [cx, 0.0, 1.0],
+        [cx, 0.0, -1.0],
+    ]
+}
+
+/// The octahedron's faces, counter-clockwise seen from outside; the first
+/// is (+x, +y, +z).
+const OCTAHEDRON_FACES: [[usize; 3]; 8] = [
+    [0, 2, 4],
+    [2, 1, 4],
+    [1, 3, 4],
+    [3, 0, 4],
+    [2, 0, 5],
+    [1, 2, 5],
+    [3, 1, 5],
+    [0, 3, 5],
+];
+
 /// Two octahedra touching at a point through two distinct vertices at the
 /// same place: matching by position alone cannot tell those apart.
 fn two_octahedra() -> Mesh {
-    let octa = |cx: f64| -> Vec<[f64; 3]> {
-        vec![
-            [cx + 1.0, 0.0, 0.0],
-            [cx - 1.0, 0.0, 0.0],
-            [cx, 1.0, 0.0],
-            [cx, -1.0, 0.0],
-            [cx, 0.0, 1.0],
-            [cx, 0.0, -1.0],
-        ]
-    };
     // The first's vertex 0 (at x = 1) and the second's vertex 1 coincide.
-    let mut ps = octa(0.0);
-    ps.extend(octa(2.0));
-    let faces: [[usize; 3]; 8] = [
-        [0, 2, 4],
-        [2, 1, 4],
-        [1, 3, 4],
-        [3, 0, 4],
-        [2, 0, 5],
-        [1, 2, 5],
-        [3, 1, 5],
-        [0, 3, 5],
-    ];
-    let all: Vec<Vec<usize>> = faces
+    let mut ps = octahedron_corners(0.0);
+    ps.extend(octahedron_corners(2.0));
+    let all: Vec<Vec<usize>> = OCTAHEDRON_FACES
         .iter()
         .map(|f| f.to_vec())
-        .chain(faces.iter().map(|f| f.iter().map(|i| i + 6).collect()))
+        .chain(
+            OCTAHEDRON_FACES
+                .iter()
+                .map(|f| f.iter().map(|i| i + 6).collect()),
+        )
         .collect();
     let refs: Vec<&[usize]> = all.iter().map(|f| f.as_slice()).collect();
     mesh_of(&ps, &refs)
+}
+
+/// An octahedron without its first face: the hole is a triangle, so a flip
+/// of a hole's edge passes the triangle rule, and the two vertices facing
+/// it (+z in the hole, -z in the real face) are not joined, so it passes
+/// the duplicate-edge rule too. Only the boundary rule refuses it.
+fn open_octahedron() -> Mesh {
+    let faces: Vec<&[usize]> = OCTAHEDRON_FACES[1..].iter().map(|f| f.as_slice()).collect();
+    mesh_of(&octahedron_corners(0.0), &faces)
+}
+
+/// A boundary edge of `mesh` where only the boundary rule refuses a flip:
+/// the vertex facing it and the hole's vertex two steps along are not
+/// joined (at a grid's corner they are, and the duplicate-edge rule would
+/// refuse it too).
+fn rim_edge_only_the_boundary_refuses(mesh: &Mesh) -> EdgeId {
+    mesh.edge_ids()
+        .filter(|&e| mesh.edge_on_boundary(e))
+        .find(|&e| {
+            let h = mesh[e].halfedge;
+            let t = mesh[h].twin;
+            let c = mesh[mesh[mesh[h].next].next].vertex;
+            let d = mesh[mesh[mesh[t].next].next].vertex;
+            c != d && mesh.find_edge(c, d).is_none()
+        })
+        .expect("a rim edge away from the corners")
 }
 
 /// An open tube of `segments` sides and `rings` rows, cut open along one

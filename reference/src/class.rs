@@ -210,6 +210,8 @@ pub struct Options {
     pub budget: f64,
     /// Count the bonus cases.
     pub bonus: bool,
+    /// Add each submission's fresh cases (see [`crate::fresh`]).
+    pub fresh: bool,
     /// The folder the builds use (`target/` and `vendor/` in it), shared by
     /// every submission; outside the lab. `None`: a new private temporary
     /// folder, removed at the end (the dependencies then compile afresh).
@@ -280,6 +282,21 @@ fn private_dir(path: &Path) -> Result<(), String> {
     builder
         .create(path)
         .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// A private copy of the class's `fixtures` with the fresh cases of the
+/// submission `lib_rs` added (its seed from the hidden cases' digest list
+/// and the file's bytes), and that seed.
+fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(RemovedAtEnd, u64), String> {
+    let secret = crate::fresh::secret_of(fixtures)?;
+    let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
+    let seed = crate::fresh::seed_for(&secret, &bytes);
+    let dir = std::env::temp_dir().join(unpredictable_name("meshlab-fresh-"));
+    private_dir(&dir)?;
+    let guard = RemovedAtEnd(vec![dir.clone()]);
+    copy_keeping_times(fixtures, &dir)?;
+    crate::fresh::write(&dir, seed, crate::solution::Weights::Warren)?;
+    Ok((guard, seed))
 }
 
 /// Removes its folders when dropped, whichever way grading ends.
@@ -516,7 +533,12 @@ pub fn grade_class(
             std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
         }
     }
-    let counts = case_counts(&fixtures, options.bonus);
+    let mut counts = case_counts(&fixtures, options.bonus);
+    if options.fresh {
+        for (k, n) in crate::fresh::counted(options.bonus).into_iter().enumerate() {
+            counts[k] += n;
+        }
+    }
     let build_dir = match &options.build_dir {
         Some(dir) => {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -745,6 +767,17 @@ fn grade_one(
         }
     }
 
+    // This submission's fresh cases, in a private copy of the fixtures
+    // (removed once it is graded).
+    let fresh = if options.fresh {
+        Some(fresh_fixtures(fixtures, lib_rs)?)
+    } else {
+        None
+    };
+    let fixtures = fresh
+        .as_ref()
+        .map_or(fixtures, |(dir, _)| dir.0[0].as_path());
+
     let results = logs.join("results.json");
     let mut grade = Command::new(exe);
     grade
@@ -793,6 +826,15 @@ fn grade_one(
     let cases = report["cases"].as_array().cloned().unwrap_or_default();
     let bonus = report["bonus_counted"].as_bool().unwrap_or(false);
     let mut full = String::new();
+    let fresh_line = fresh.as_ref().map(|(_, seed)| {
+        format!(
+            "fresh cases: seed {seed:016x} (replay: cargo run -p reference -- fresh --seed \
+             {seed:016x} --dir DIR, then grade --fixtures DIR)"
+        )
+    });
+    if let Some(line) = &fresh_line {
+        let _ = writeln!(full, "{line}\n");
+    }
     if !compiler.is_empty() {
         let _ = writeln!(full, "compiler output:\n{compiler}\n");
     }
@@ -858,6 +900,9 @@ fn grade_one(
     let mut short = format!("{}: {} ({passed} of {total})\n", s.name, row.status);
     for (k, (_, function)) in FUNCTIONS.iter().enumerate() {
         let _ = writeln!(short, "  {function:<15} {}/{}", counted[k].0, counted[k].1);
+    }
+    if let Some(line) = &fresh_line {
+        let _ = writeln!(short, "  {line}");
     }
     if compiler.contains("warning") {
         let _ = writeln!(short, "\ncompiler warnings: see {}.log", s.name);

@@ -16,10 +16,14 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Paths (relative to the root, `/`-separated) never copied.
-pub const EXCLUDED: [&str; 8] = [
+pub const EXCLUDED: [&str; 10] = [
     ".git",
     "target",
     "reference",
+    // The developers' full test run (`cargo xtask test`) and its alias: it
+    // runs the TA-only tests; students run `cargo test --workspace`.
+    "xtask",
+    ".cargo",
     "fixtures/hidden",
     "docs/ta-guide.md",
     // About the reference's speed: it names the hidden crate throughout.
@@ -65,7 +69,10 @@ fn io<T>(result: std::io::Result<T>, path: &Path) -> Result<T, String> {
     result.map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// The members of the workspace manifest `text`, without `reference`.
+/// Workspace members that stay with the TAs.
+const TA_MEMBERS: [&str; 2] = ["reference", "xtask"];
+
+/// The members of the workspace manifest `text`, without the TAs' ones.
 fn student_members(text: &str) -> Result<Vec<String>, String> {
     let line = text
         .lines()
@@ -79,7 +86,7 @@ fn student_members(text: &str) -> Result<Vec<String>, String> {
     Ok(inside
         .split(',')
         .map(|m| m.trim().trim_matches('"').to_string())
-        .filter(|m| !m.is_empty() && m != "reference")
+        .filter(|m| !m.is_empty() && !TA_MEMBERS.contains(&m.as_str()))
         .collect())
 }
 
@@ -198,7 +205,47 @@ fn copy_tree(
 pub fn export(root: &Path, dest: &Path, autograding: bool) -> Result<Exported, String> {
     let mut out = copy_lab(root, dest, Purpose::Handout)?;
     out.files += write_classroom(root, dest, autograding)?;
+    let copies = solution_copies(dest)?;
+    if !copies.is_empty() {
+        let _ = std::fs::remove_dir_all(dest);
+        return Err(format!(
+            "the export would carry the model solution's code, so nothing was exported:\n  {}\n\
+             rewrite those lines (or move them where students never get them)",
+            copies.join("\n  ")
+        ));
+    }
     Ok(out)
+}
+
+/// The model solution, as the copy check reads it.
+const SOLUTION_SOURCE: &str = include_str!("solution.rs");
+
+/// A run of this many normalised tokens shared with the model solution
+/// makes a file a copy of it. Measured on the lab: legitimate code shares
+/// at most 46 (the halfedge tests' meshes linked by hand); the flip once
+/// relinked by hand in `crates/halfedge/tests/validate.rs` shared 328, and
+/// six `set_neighbors` lines alone are 96.
+pub const COPY_TOKENS: usize = 80;
+
+/// Every `.rs` file under `dir` that shares a run of [`COPY_TOKENS`] or
+/// more normalised tokens with the model solution (names, numbers and
+/// strings replaced, so a renamed copy is still found), as
+/// "FILE:LINE shares N tokens with reference/src/solution.rs:LINE".
+pub fn solution_copies(dir: &Path) -> Result<Vec<String>, String> {
+    let solution = crate::tokens::normalized(SOLUTION_SOURCE);
+    let mut found = Vec::new();
+    for rel in list_files(dir)?.iter().filter(|f| f.ends_with(".rs")) {
+        let path = dir.join(rel);
+        let text = io(std::fs::read_to_string(&path), &path)?;
+        let tokens = crate::tokens::normalized(&text);
+        if let Some(run) = crate::tokens::longest_shared(&tokens, &solution, COPY_TOKENS) {
+            found.push(format!(
+                "{rel}:{} shares {} tokens with reference/src/solution.rs:{}",
+                run.line, run.tokens, run.their_line
+            ));
+        }
+    }
+    Ok(found)
 }
 
 /// The Classroom files of an export; returns how many it wrote.

@@ -6,19 +6,26 @@
 //!   rules and a choice of weights.
 //! - [`mutants`]: other correct answers and one wrong answer per common
 //!   mistake, for the fixtures' hints and the grader's tests.
-//! - [`hostile`]: attacks on the grader, for its tests.
+//! - [`hostile`]: attacks on the grader, for its tests; [`lookup`]: the
+//!   lookup table of the visible cases.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
+//! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`handout`]: exporting the student workspace.
 //! - [`class`]: grading a folder of submissions.
+//! - [`tokens`]: Rust source as normalised tokens, and the runs two
+//!   sources share (the handout's no-solution check).
 //!
 //! The command line (`cargo run -p reference -- --help`) is in `main.rs`.
 
 pub mod cases;
 pub mod class;
+pub mod fresh;
 pub mod handout;
 pub mod hostile;
+pub mod lookup;
 pub mod mutants;
 pub mod solution;
+pub mod tokens;
 
 use std::path::PathBuf;
 

@@ -82,7 +82,8 @@ enum Command {
         #[arg(long, value_enum, default_value = "hidden")]
         group: Group,
         /// Subdivide this many rounds (the default operation, 1 round);
-        /// 1 to 10, and at most 50000 faces in the result.
+        /// 1 to 10, and at most 50000 faces in the result. The mesh must be
+        /// all triangles.
         #[arg(long, value_name = "ROUNDS", conflicts_with_all = ["flip", "split"])]
         subdivide: Option<usize>,
         /// Flip the edge between vertices A and B.
@@ -134,6 +135,18 @@ enum Command {
         #[arg(short = 'o', long)]
         output: PathBuf,
     },
+    /// Write the fresh cases of a seed (as a class report names it) into
+    /// DIR's hidden/ and bonus/, to replay them: then `grade --fixtures DIR`.
+    Fresh {
+        /// The seed, 16 hex digits (`fresh-SEED-...` in the case names).
+        #[arg(long, value_parser = parse_seed)]
+        seed: u64,
+        /// The fixtures folder to add them to (new or existing).
+        #[arg(long, value_name = "DIR")]
+        dir: PathBuf,
+        #[command(flatten)]
+        weights: WeightOpt,
+    },
     /// Write the student workspace (no solution, no hidden cases, with the
     /// GitHub Classroom workflow) to DIR.
     Handout {
@@ -179,6 +192,10 @@ enum Command {
         /// Count the bonus cases.
         #[arg(long)]
         bonus: bool,
+        /// Grade on the fixtures alone, without each submission's fresh
+        /// cases (random meshes drawn from a seed per submission).
+        #[arg(long)]
+        no_fresh: bool,
         /// No progress lines.
         #[arg(short, long)]
         quiet: bool,
@@ -275,6 +292,14 @@ const PROGRESS_FACES: usize = 1_000_000;
 const MAX_FIXTURE_FACES: usize = 50_000;
 /// Reader warnings printed one by one; the summary line counts them all.
 const MAX_WARNINGS_SHOWN: usize = 10;
+
+/// A fresh-case seed: 16 hex digits, as case names print it.
+fn parse_seed(text: &str) -> Result<u64, String> {
+    if text.is_empty() || text.len() > 16 {
+        return Err(format!("{text:?}: a seed is 1 to 16 hex digits"));
+    }
+    u64::from_str_radix(text, 16).map_err(|_| format!("{text:?}: a seed is 1 to 16 hex digits"))
+}
 
 /// Reads an OBJ file and prints what the reader ignored to stderr.
 fn read_obj(path: &Path) -> Result<Mesh, String> {
@@ -504,6 +529,28 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 .and_then(|s| s.to_str())
                 .unwrap_or("mesh")
                 .to_string();
+            // One size rule for every case: the input too stays within what
+            // a result may hold (a 240k-face flip made a 32 MB fixture).
+            if mesh.num_real_faces() > MAX_FIXTURE_FACES {
+                return Err(format!(
+                    "{}: {} faces: a case's meshes have at most {MAX_FIXTURE_FACES} faces \
+                     (fixtures stay small and quick to grade); take a coarser mesh",
+                    obj.display(),
+                    mesh.num_real_faces()
+                ));
+            }
+            if flip.is_none() && split.is_none() {
+                if let Some(f) = mesh.first_non_triangle() {
+                    return Err(format!(
+                        "{}: face {} has {} sides: loop_subdivide takes triangle meshes only, \
+                         so this makes no subdivision case (the refusal on a mesh of quads is \
+                         built in: quad-box-subdivide-1)",
+                        obj.display(),
+                        f.index() + 1,
+                        mesh.face_degree(f)
+                    ));
+                }
+            }
             let (operation, suffix) = match (flip, split, subdivide) {
                 (Some(ab), _, _) => {
                     let edge = obj_edge(&mesh, ab[0], ab[1])?;
@@ -777,6 +824,16 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             Ok(ExitCode::SUCCESS)
         }
+        Command::Fresh { seed, dir, weights } => {
+            let n = reference::fresh::write(&dir, seed, Weights::from(weights.weights))?;
+            println!(
+                "wrote {n} fresh cases of seed {seed:016x} into {}; grade them with \
+                 `cargo run -p reference -- grade --fixtures {}`",
+                dir.display(),
+                dir.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Class {
             submissions,
             out,
@@ -784,6 +841,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             timeout,
             budget,
             bonus,
+            no_fresh,
             quiet,
         } => {
             for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
@@ -804,6 +862,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 launcher: std::env::current_exe().map_err(|e| e.to_string())?,
                 build_memory: grader::build_sandbox::DEFAULT_MEMORY,
                 build_seconds: None,
+                fresh: !no_fresh,
                 progress: !quiet,
             };
             let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;

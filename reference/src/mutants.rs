@@ -91,9 +91,13 @@ pub fn catalogue() -> Vec<Entry> {
         e("flip-stale-vertex", "flip_edge does not update the halfedge of a and b", with(Some(flip_stale_vertices), None, Some(sub_flip_stale_vertices))),
         e("flip-stale-face", "flip_edge does not update the faces' halfedge", with(Some(flip_stale_faces), None, Some(sub_flip_stale_faces))),
         e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", with(Some(flip_face_labels), None, Some(sub_flip_face_labels))),
-        e("flip-boundary", "flip_edge does not refuse boundary edges", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
+        e("flip-boundary", "flip_edge does not refuse boundary edges (every other rule kept)", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
         e("flip-index-panic", "flip_edge indexes past the end of a Vec", with(Some(flip_index_panic), None, None)),
         e("flip-duplicates", "flip_edge does not refuse a flip whose new edge exists already", with(Some(flip_without_duplicate_check), None, None)),
+        e("flip-moves-vertex", "flip_edge relinks right but moves a vertex", with(Some(flip_moves_vertex), None, None)),
+        e("split-any-face", "split_edge splits beside faces that are not triangles", with(None, Some(split_any_face), None)),
+        e("split-marks-new", "split_edge marks the new vertex is_new and gives it a new_pos", with(None, Some(split_marks_new), None)),
+        e("split-renames-edge", "split_edge leaves e naming an edge across, not half of the old edge", with(None, Some(split_renames_edge), None)),
         e("split-not-midpoint", "split_edge puts the new vertex a third of the way", with(None, Some(split_third), Some(sub_split_third))),
         e("split-vertex-across", "split_edge points the new vertex's halfedge across, not along", with(None, Some(split_vertex_across), Some(sub_split_vertex_across))),
         e("split-none", "split_edge always returns None", with(None, Some(|_, _| None), None)),
@@ -145,6 +149,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
         e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
+        e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }
@@ -302,7 +307,19 @@ fn flip_face_labels(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
 }
 
 /// No checks at all: relinks as if both faces were triangles.
+/// Every rule of the contract but the boundary one: a hole shaped like a
+/// triangle passes the triangle rule.
 fn flip_boundary(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    if !solution::is_triangle(mesh, h) || !solution::is_triangle(mesh, t) {
+        return None;
+    }
+    let c = mesh[mesh[mesh[h].next].next].vertex;
+    let d = mesh[mesh[mesh[t].next].next].vertex;
+    if c == d || mesh.find_edge(c, d).is_some() {
+        return None;
+    }
     solution::relink_flip(mesh, e);
     Some(e)
 }
@@ -315,7 +332,57 @@ fn flip_index_panic(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     solution::flip_edge(mesh, e)
 }
 
+/// Right links, but a vertex moved: a flip keeps every position.
+fn flip_moves_vertex(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let (a, _) = mesh.edge_vertices(e);
+    let flipped = solution::flip_edge(mesh, e)?;
+    mesh[a].pos *= 1.01;
+    Some(flipped)
+}
+
 // ---- split mistakes ----------------------------------------------------------
+
+/// No triangle check: relinks beside a quad as if it were a triangle.
+fn split_any_face(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let mut h = mesh[e].halfedge;
+    if mesh[mesh[h].face].is_boundary {
+        h = mesh[h].twin;
+    }
+    Some(solution::relink_split(mesh, e, h))
+}
+
+/// Does subdivision's marking inside the split.
+fn split_marks_new(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let m = solution::split_edge(mesh, e)?;
+    mesh[m].is_new = true;
+    mesh[m].new_pos = mesh[m].pos;
+    Some(m)
+}
+
+/// A valid split whose edge `e` became the new edge across the first
+/// triangle instead of half of the old edge (the ids of two edges swapped).
+fn split_renames_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let (a, b) = mesh.edge_vertices(e);
+    let m = solution::split_edge(mesh, e)?;
+    let across = mesh
+        .vertex_halfedges(m)
+        .into_iter()
+        .find(|&h| {
+            let end = mesh.halfedge_dst(h);
+            end != a && end != b
+        })
+        .map(|h| mesh[h].edge)?;
+    let (he, hx) = (mesh[e].halfedge, mesh[across].halfedge);
+    for h in [he, mesh[he].twin] {
+        mesh[h].edge = across;
+    }
+    for h in [hx, mesh[hx].twin] {
+        mesh[h].edge = e;
+    }
+    mesh[e].halfedge = hx;
+    mesh[across].halfedge = he;
+    Some(m)
+}
 
 fn split_third(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     let (a, b) = mesh.edge_vertices(e);

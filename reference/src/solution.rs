@@ -50,7 +50,7 @@ impl Weights {
     }
 }
 
-fn is_triangle(mesh: &Mesh, h: HalfedgeId) -> bool {
+pub(crate) fn is_triangle(mesh: &Mesh, h: HalfedgeId) -> bool {
     mesh[mesh[mesh[h].next].next].next == h
 }
 
@@ -114,7 +114,15 @@ pub fn split_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     if !is_triangle(mesh, h) || (!on_boundary && !is_triangle(mesh, t)) {
         return None;
     }
+    Some(relink_split(mesh, e, h))
+}
 
+/// The creating and relinking part of a split, with no checks: `h`, `e`'s
+/// halfedge in a real face, and its twin's face (unless a hole) are taken
+/// to be triangles. Returns the new vertex.
+pub(crate) fn relink_split(mesh: &mut Mesh, e: EdgeId, h: HalfedgeId) -> VertexId {
+    let t = mesh[h].twin;
+    let on_boundary = mesh[mesh[t].face].is_boundary;
     // Before: h = a->b, h1 = b->c, h2 = c->a in f0; t = b->a in f1.
     let (h1, h2) = (mesh[h].next, mesh[mesh[h].next].next);
     let (a, b, c) = (mesh[h].vertex, mesh[t].vertex, mesh[h2].vertex);
@@ -176,7 +184,7 @@ pub fn split_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     mesh[e].halfedge = h;
     mesh[f0].halfedge = h;
     mesh[f2].halfedge = hb;
-    Some(m)
+    m
 }
 
 /// See `meshedit::loop_subdivide`: one round with the lab's weights.

@@ -127,38 +127,12 @@ fn write(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap();
 }
 
-fn json(path: &Path) -> serde_json::Value {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}\n{text}", path.display()))
-}
-
 fn tests_of(results: &serde_json::Value) -> Vec<serde_json::Value> {
     results["tests"].as_array().cloned().unwrap_or_default()
 }
 
 fn sum(tests: &[serde_json::Value], key: &str) -> f64 {
     tests.iter().map(|t| t[key].as_f64().unwrap_or(0.0)).sum()
-}
-
-/// The cases (`*.json`, not `SHA256SUMS`) of one group of the lab's fixtures.
-fn case_files(group: &str) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("fixtures").join(group))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    files
-}
-
-/// Counted (lab + hidden) cases per fixture kind in the lab.
-fn counted(kind: &str) -> usize {
-    ["lab", "hidden"]
-        .iter()
-        .flat_map(|g| case_files(g))
-        .map(|p| json(&p))
-        .filter(|f| f["operation"]["kind"] == kind)
-        .count()
 }
 
 #[test]
@@ -202,10 +176,9 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
         let Ok(text) = std::fs::read_to_string(dir.join(f)) else {
             continue;
         };
+        // The solution itself is found by content (below); these name TA
+        // material.
         for marker in [
-            "relink_flip",
-            "fn vertex_points",
-            "fn flip_old_new",
             "subdivision_mistakes",
             "\"reference\"",
             "-p reference",
@@ -215,6 +188,11 @@ fn handout_is_clean_builds_locked_updates_and_its_classroom_workflow_runs() {
             assert!(!text.contains(marker), "{f} contains {marker:?}");
         }
     }
+    assert_eq!(
+        reference::handout::solution_copies(&dir).unwrap(),
+        Vec::<String>::new(),
+        "no shipped file carries the model solution's code"
+    );
     for doc in all.iter().filter(|f| f.ends_with(".md")) {
         let text = std::fs::read_to_string(dir.join(doc)).unwrap();
         assert!(
@@ -485,8 +463,20 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert!(!script.contains('@'), "every setting filled in");
     std::fs::copy(bundle.join("run_autograder"), ag.join("run_autograder")).unwrap();
 
-    // The part of setup.sh that needs no network: as root, it moves the
-    // hidden cases into a folder only root may enter and builds as nobody.
+    // setup.sh's download, as it runs it: every platform's crates (vendoring
+    // needs the Windows-only ones too, which no build here ever fetched).
+    let fetched = Command::new(env!("CARGO"))
+        .args(["fetch", "--locked"])
+        .current_dir(&lab)
+        .output()
+        .unwrap();
+    assert!(
+        fetched.status.success(),
+        "setup.sh's `cargo fetch --locked` fails in the bundle's lab: {}",
+        String::from_utf8_lossy(&fetched.stderr)
+    );
+    // The rest of setup.sh, past installing the toolchain: as root, it moves
+    // the hidden cases into a folder only root may enter and builds as nobody.
     let out = Command::new(bundle.join("run_autograder"))
         .arg("--setup")
         .env("AUTOGRADER", &ag)
@@ -828,7 +818,10 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         ]
     );
     let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
-    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
+    // Each submission also gets its fresh cases, counted like hidden ones.
+    let fresh = reference::fresh::counted(false);
+    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64
+        + fresh.iter().sum::<usize>() as f64;
 
     assert_eq!((row("alice").score, row("alice").max), (0.0, max));
     assert_eq!(row("alice").status, "failed");
@@ -844,7 +837,24 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{}",
         std::fs::read_to_string(out.join("bob.log")).unwrap()
     );
-    assert_eq!(bob.functions[0], (counted("flip"), counted("flip")));
+    let flips = counted("flip") + fresh[0];
+    assert_eq!(bob.functions[0], (flips, flips));
+    let bob_txt = std::fs::read_to_string(out.join("bob.txt")).unwrap();
+    let secret = std::fs::read(root().join("fixtures/hidden/SHA256SUMS")).unwrap();
+    let bob_rs = std::fs::read(subs.join("bob/lab/crates/meshedit/src/lib.rs")).unwrap();
+    let seed = format!("{:016x}", reference::fresh::seed_for(&secret, &bob_rs));
+    assert!(
+        bob_txt.contains(&format!("fresh cases: seed {seed}")),
+        "the report names the seed to replay: {bob_txt}"
+    );
+    assert!(
+        std::fs::read_to_string(out.join("bob.log"))
+            .unwrap()
+            .contains(&format!(
+                "== fresh-{seed}-torus-split (hidden, split): passed"
+            )),
+        "fresh cases graded under their seed"
+    );
     assert_eq!((row("carol").score, row("carol").max), (0.0, max));
     assert_eq!(row("carol").status, "does not compile");
     assert!(
@@ -942,10 +952,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{csv}"
     );
     assert!(
-        csv.contains(&format!(
-            "\nbob,{max},{max},passed,{0}/{0},",
-            counted("flip")
-        )),
+        csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
         "{csv}"
     );
     assert_eq!(csv.lines().count(), 16, "{csv}");
@@ -995,7 +1002,10 @@ fn class_grading_keeps_the_ta_s_environment_from_the_build() {
     let stderr = String::from_utf8_lossy(&r.stderr);
     assert!(r.status.success(), "{stderr}");
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
-    let max = counted("flip") + counted("split") + counted("subdivide");
+    let max = counted("flip")
+        + counted("split")
+        + counted("subdivide")
+        + reference::fresh::counted(false).iter().sum::<usize>();
     assert!(
         csv.contains(&format!("\nnina,0,{max},does not compile,")),
         "{csv}"

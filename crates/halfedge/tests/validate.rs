@@ -278,43 +278,21 @@ fn link_by_hand(positions: &[DVec3], faces: &[(&[usize], bool)]) -> Mesh {
     m
 }
 
-/// The relinking of a flip (as the reference does it), with no checks.
-fn flip_by_hand(m: &mut Mesh, e: EdgeId) {
-    let h = m[e].halfedge;
-    let t = m[h].twin;
-    let (h1, t1) = (m[h].next, m[t].next);
-    let (h2, t2) = (m[h1].next, m[t1].next);
-    let (a, b) = (m[h].vertex, m[t].vertex);
-    let (c, d) = (m[h2].vertex, m[t2].vertex);
-    let (f0, f1) = (m[h].face, m[t].face);
-    m.set_neighbors(h, h2, t, d, e, f0);
-    m.set_neighbors(h2, t1, m[h2].twin, c, m[h2].edge, f0);
-    m.set_neighbors(t1, h, m[t1].twin, a, m[t1].edge, f0);
-    m.set_neighbors(t, t2, h, c, e, f1);
-    m.set_neighbors(t2, h1, m[t2].twin, d, m[t2].edge, f1);
-    m.set_neighbors(h1, t, m[h1].twin, b, m[h1].edge, f1);
-    m[a].halfedge = t1;
-    m[b].halfedge = h1;
-    m[f0].halfedge = h;
-    m[f1].halfedge = t;
-}
-
 #[test]
 fn halfedge_from_a_vertex_to_itself() {
-    // The "pillow": one triangle twice, opposite windings. Its links are
-    // consistent (the builder refuses it as a duplicate face), and flipping
-    // an edge joins the vertex facing it on both sides to itself, which
-    // validate() once let through.
+    // The "pillow" (one triangle twice, opposite windings) with its edge 0-1
+    // flipped: the vertex facing that edge is 2 on both sides, so the
+    // flipped edge runs from 2 to 2 inside faces (2, 2, 0) and (2, 2, 1).
+    // Its links are otherwise consistent, and validate() once let it
+    // through. Built from the faces, as a flip would leave them.
     let p = [DVec3::ZERO, DVec3::X, DVec3::Y];
-    let mut m = link_by_hand(&p, &[(&[0, 1, 2], false), (&[1, 0, 2], false)]);
-    m.validate().unwrap();
-    let e = m.edge_between(0, 1).unwrap();
-    flip_by_hand(&mut m, e);
-    assert_invalid(
-        &m,
-        m[e].halfedge,
-        "A halfedge starts and ends at the same vertex!",
-    );
+    let m = link_by_hand(&p, &[(&[2, 2, 0], false), (&[2, 2, 1], false)]);
+    let looped = m
+        .halfedge_ids()
+        .find(|&h| m[h].vertex == m[m[h].twin].vertex)
+        .expect("the flipped edge's halfedges");
+    assert_eq!(m[looped].vertex.index(), 2);
+    assert_invalid(&m, looped, "A halfedge starts and ends at the same vertex!");
 }
 
 #[test]

@@ -33,6 +33,49 @@ pub fn run(args: &[&str]) -> Ran {
     run_in(None, args)
 }
 
+/// The lab's root folder (the workspace).
+pub fn lab_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("reference sits in the lab")
+        .to_path_buf()
+}
+
+/// A JSON file, read and parsed (a failure names the file).
+pub fn json(path: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}\n{text}", path.display()))
+}
+
+/// The cases (`*.json`, not `SHA256SUMS`) of one group of the lab's
+/// fixtures, sorted.
+pub fn case_files(group: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(lab_root().join("fixtures").join(group))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The counted (lab + hidden) cases of one operation kind (`flip`,
+/// `split`, `subdivide`), by name in the order the grader runs them.
+pub fn counted_cases(kind: &str) -> Vec<String> {
+    ["lab", "hidden"]
+        .iter()
+        .flat_map(|g| case_files(g))
+        .map(|p| json(&p))
+        .filter(|f| f["operation"]["kind"] == kind)
+        .map(|f| f["name"].as_str().expect("a case has a name").to_string())
+        .collect()
+}
+
+/// How many counted cases of one operation kind the lab has.
+pub fn counted(kind: &str) -> usize {
+    counted_cases(kind).len()
+}
+
 /// A fresh, empty temporary folder for one test.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("reference-{name}-{}", std::process::id()));
@@ -128,6 +171,7 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         launcher: PathBuf::from(env!("CARGO_BIN_EXE_reference")),
         build_memory: grader::build_sandbox::DEFAULT_MEMORY,
         build_seconds: None,
+        fresh: true,
         progress: false,
     }
 }
