@@ -784,6 +784,15 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             false,
         ),
     );
+    // The previous student's program, left in the shared target folder
+    // (frank's, built just before): removed before each build.
+    write(
+        &subs.join("frankie.rs"),
+        &embedding_expr(
+            "concat!(env!(\"CARGO_TARGET_DIR\"), \"/debug/grader-child\")",
+            true,
+        ),
+    );
     let lab_hidden = root().join("fixtures/hidden").join(&hidden_case);
     write(
         &subs.join("judy.rs"),
@@ -812,6 +821,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             "dave",
             "eve",
             "frank",
+            "frankie",
             "grace",
             "heidi",
             "ivan",
@@ -914,6 +924,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         );
     };
     refused("ivan", "No such file or directory");
+    refused("frankie", "debug/grader-child`: No such file or directory");
     refused(
         "judy",
         &format!(
@@ -961,7 +972,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 16, "{csv}");
+    assert_eq!(csv.lines().count(), 17, "{csv}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
