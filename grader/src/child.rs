@@ -1,7 +1,8 @@
 //! Both ends of a case's child process.
 //!
 //! [`serve`] is the child: it reads a [`Request`] (the input mesh and the
-//! operation, never the expected result), calls the student's function
+//! operation, never the expected result) on [`crate::sandbox::REQUEST_FD`]
+//! (its stdin is `/dev/null`), calls the student's function
 //! under `catch_unwind` with a silent panic hook, and sends back the mesh as
 //! the function left it. It judges nothing and reads no file.
 //!
@@ -178,8 +179,14 @@ pub fn run_request(req: Request, imp: &Implementation) -> Ran {
             Some(v) => Answer::Vertex(v),
         },
         Op::Subdivide { rounds } => {
-            for _ in 0..rounds {
+            for round in 1..=rounds {
                 (imp.loop_subdivide)(&mut mesh);
+                // A round that broke the mesh ends the case there: the next
+                // would only walk the broken links and panic far from the
+                // mistake, which the parent can name from this mesh.
+                if round < rounds && mesh.validate().is_err() {
+                    break;
+                }
             }
             Answer::Unit
         }
@@ -209,11 +216,25 @@ pub fn serve(imp: &Implementation) -> ! {
         libc::dup2(2, 1);
     }
     let mut channel = std::fs::File::from(channel);
-    let mut bytes = Vec::new();
-    if let Err(e) = std::io::stdin().read_to_end(&mut bytes) {
-        eprintln!("grader child: cannot read the request: {e}");
+    // The request comes on its own descriptor (stdin is /dev/null), read
+    // to the end and closed.
+    // SAFETY: F_GETFD only asks whether the descriptor is open.
+    if unsafe { libc::fcntl(crate::sandbox::REQUEST_FD, libc::F_GETFD) } < 0 {
+        eprintln!("grader child: no request: this program is started by the grader");
         std::process::exit(3);
     }
+    // SAFETY: the descriptor is open and this is its only owner.
+    let mut request = unsafe {
+        <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(crate::sandbox::REQUEST_FD)
+    };
+    let mut bytes = Vec::new();
+    if let Err(e) = request.read_to_end(&mut bytes) {
+        eprintln!(
+            "grader child: cannot read the request ({e}): this program is started by the grader"
+        );
+        std::process::exit(3);
+    }
+    drop(request);
     let req = match Request::decode(&bytes) {
         Ok(r) => r,
         Err(e) => {

@@ -6,6 +6,7 @@ use serde::Serialize;
 use crate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
 use crate::fixture::{Fixture, Group, Operation, Returns, Stage};
 use crate::matching::{self, VertexMatch};
+use crate::quoted::Quoted;
 use crate::runner::{ChildReport, Run};
 
 /// How a line is shown.
@@ -23,7 +24,12 @@ pub enum Level {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Entry {
     pub level: Level,
+    /// The grader's words, never the student's.
     pub text: String,
+    /// Student text the line quotes (a panic message, its location), shown
+    /// after `text` when it fits on the line, else under it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quote: Option<Quoted>,
     #[serde(skip)]
     pub file: &'static str,
     #[serde(skip)]
@@ -40,7 +46,11 @@ pub struct CaseReport {
     pub passed: bool,
     pub entries: Vec<Entry>,
     /// What the student's code printed while it ran.
-    pub output: String,
+    pub output: Quoted,
+    /// The case ran out of time (or never reached the call): later cases
+    /// of the same function get a shorter limit.
+    #[serde(skip)]
+    pub timed_out: bool,
     /// The input as sent on the labelling reported (the first that failed,
     /// else the mesh as built), for pictures and OBJ files.
     #[serde(skip)]
@@ -48,30 +58,74 @@ pub struct CaseReport {
     /// The mesh the student's function left, when it returned.
     #[serde(skip)]
     pub result: Option<halfedge::Mesh>,
+    /// The first hint the case got (its words, as its `hint:` line says
+    /// them): the summary repeats it where students read.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hint: Option<String>,
 }
 
 struct Log {
     entries: Vec<Entry>,
     passed: bool,
+    hint: Option<String>,
+}
+
+/// A detail line `hint: ...`, and the case's hint if it had none yet.
+macro_rules! hint {
+    ($log:expr, $($arg:tt)*) => {{
+        let text = format!($($arg)*);
+        $log.push(Level::Detail, format!("hint: {text}"), None, file!(), line!());
+        $log.hint.get_or_insert(text);
+    }};
 }
 
 macro_rules! say {
     ($log:expr, $level:ident, $($arg:tt)*) => {
-        $log.push(Level::$level, format!($($arg)*), file!(), line!())
+        $log.push(Level::$level, format!($($arg)*), None, file!(), line!())
+    };
+}
+
+/// A line of the grader's words followed by student text (`quote`, a
+/// [`Quoted`]), which is shown as data.
+macro_rules! quote {
+    ($log:expr, $level:ident, $quote:expr, $($arg:tt)*) => {
+        $log.push(Level::$level, format!($($arg)*), Some(Quoted::new($quote)), file!(), line!())
     };
 }
 
 impl Log {
-    fn push(&mut self, level: Level, text: String, file: &'static str, line: u32) {
+    fn push(
+        &mut self,
+        level: Level,
+        text: String,
+        quote: Option<Quoted>,
+        file: &'static str,
+        line: u32,
+    ) {
         if level == Level::Warn {
             self.passed = false;
         }
         self.entries.push(Entry {
             level,
             text,
+            quote,
             file,
             line,
         });
+    }
+}
+
+impl Entry {
+    /// The entry on one line: the grader's words, then the quoted text's
+    /// first line (escaped, cut) if any.
+    pub fn one_line(&self) -> String {
+        crate::quoted::quoting(&self.text, self.quote.as_ref(), "").0
+    }
+
+    /// The quoted text's lines under `indent` when they did not all fit
+    /// on the entry's line.
+    pub fn quote_below(&self, indent: &str) -> String {
+        crate::quoted::quoting(&self.text, self.quote.as_ref(), indent).1
     }
 }
 
@@ -106,6 +160,7 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
     let mut log = Log {
         entries: Vec::new(),
         passed: true,
+        hint: None,
     };
     let what = subject(f);
     say!(log, Info, "start testing {} for {what}", activity(stage));
@@ -118,9 +173,11 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         stage,
         passed: log.passed,
         entries: log.entries,
-        output: child.output.clone(),
+        output: Quoted::new(child.output.clone()),
+        timed_out: matches!(child.run, Run::TimedOut(_) | Run::StuckBeforeCall(_)),
         input: None,
         result: None,
+        hint: log.hint,
     }
 }
 
@@ -194,41 +251,48 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 "{function} returned a mesh far larger than any right answer ({} MiB of data)",
                 bytes >> 20
             );
-            say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting.");
+            hint!(log, "are edges created while splitting split again? Loop over the edge ids taken before splitting.");
         }
         Run::JudgeFailed(message) => {
-            say!(
+            quote!(
                 log,
                 Warn,
-                "the grader could not judge this result ({message}): tell a TA, with your code"
+                message.as_str(),
+                "the grader could not judge this result: tell a TA, with your code; the grader's message:"
             );
         }
         Run::Done(Outcome::Panicked { message, location }) if must_panic => {
             if message.starts_with("not yet implemented") {
-                say!(log, Warn, "{function} panicked: {message}");
+                quote!(log, Warn, message.as_str(), "{function} panicked:");
                 say!(
                     log,
                     Detail,
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
             } else if message.to_lowercase().contains("triangle") {
-                say!(log, Info, "{function} panicked, as it must: {message}");
+                quote!(
+                    log,
+                    Info,
+                    message.as_str(),
+                    "{function} panicked, as it must:"
+                );
             } else {
-                say!(
+                quote!(
                     log,
                     Warn,
-                    "{function} panicked, but its message does not say a face is not a triangle: {message}"
+                    message.as_str(),
+                    "{function} panicked, but its message does not say a face is not a triangle:"
                 );
                 if let Some(loc) = location {
-                    say!(log, Detail, "at {loc}");
+                    quote!(log, Detail, loc.as_str(), "at");
                 }
                 say!(log, Detail, "check first: mesh.first_non_triangle() finds such a face; name it in the panic message");
             }
         }
         Run::Done(Outcome::Panicked { message, location }) => {
-            say!(log, Warn, "{function} panicked: {message}");
+            quote!(log, Warn, message.as_str(), "{function} panicked:");
             if let Some(loc) = location {
-                say!(log, Detail, "at {loc}");
+                quote!(log, Detail, loc.as_str(), "at");
             }
             if message.starts_with("not yet implemented") {
                 say!(
@@ -237,7 +301,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
             } else if message.starts_with("the mesh grew past") {
-                say!(log, Detail, "hint: are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
+                hint!(log, "are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
             }
         }
         Run::Done(Outcome::Finished { .. }) if must_panic => {
@@ -324,7 +388,7 @@ fn judge_finished(
             .iter()
             .find(|m| m.invalid.as_deref() == Some(message))
         {
-            say!(log, Detail, "hint: {}", m.hint);
+            hint!(log, "{}", m.hint);
         }
         return;
     }
@@ -636,11 +700,17 @@ fn compare_vertices(
         if let Operation::Subdivide { rounds } = f.operation {
             say!(log, Detail, "{}", counts_rule(f, before, rounds));
             if got == before.vertices {
-                say!(log, Detail, "hint: no vertex was added: does loop_subdivide call split_edge on every old edge?");
+                hint!(
+                    log,
+                    "no vertex was added: does loop_subdivide call split_edge on every old edge?"
+                );
             } else if got > want {
-                say!(log, Detail, "hint: more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.");
+                hint!(log, "more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.");
             } else {
-                say!(log, Detail, "hint: fewer vertices than one per old edge: was every old edge split exactly once?");
+                hint!(
+                    log,
+                    "fewer vertices than one per old edge: was every old edge split exactly once?"
+                );
             }
         }
         return None;
@@ -692,7 +762,7 @@ fn compare_vertices(
         for mistake in &expected.mistakes {
             if let Some(ps) = &mistake.positions {
                 if matching::same_positions(&mesh.positions, ps, f.tolerance) {
-                    say!(log, Detail, "hint: {}", mistake.hint);
+                    hint!(log, "{}", mistake.hint);
                     break;
                 }
             }
@@ -775,7 +845,7 @@ fn compare_edges(
     for mistake in &expected.mistakes {
         if let Some(edges) = &mistake.edges {
             if matching::diff_edges(&mine, edges).is_empty() {
-                say!(log, Detail, "hint: {}", mistake.hint);
+                hint!(log, "{}", mistake.hint);
                 break;
             }
         }
@@ -942,10 +1012,12 @@ pub fn add_detail(report: &mut CaseReport, text: String) {
     let mut log = Log {
         entries: std::mem::take(&mut report.entries),
         passed: report.passed,
+        hint: report.hint.take(),
     };
     say!(log, Detail, "{text}");
     report.entries = log.entries;
     report.entries.extend(end);
+    report.hint = log.hint;
 }
 
 /// Says, under a failure, that it showed only on a relabelled input, what
@@ -963,6 +1035,7 @@ pub fn note_labelling(
     let mut log = Log {
         entries: std::mem::take(&mut report.entries),
         passed: false,
+        hint: report.hint.take(),
     };
     let function = f.operation.stage().function();
     say!(
@@ -981,23 +1054,24 @@ pub fn note_labelling(
         .unwrap_or_default();
     let advice = match (labelling.kind, f.operation.stage()) {
         (Kind::HoleSide, _) => format!(
-            "hint: does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
+            "does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
         ),
-        (_, Stage::Subdivide) => "hint: your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
+        (_, Stage::Subdivide) => "your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
         _ if warning.contains("vertex's halfedge") => format!(
-            "hint: does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
+            "does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
         ),
         _ if warning.contains("face's halfedge") || warning.contains("to its face") => format!(
-            "hint: does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
+            "does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
         ),
         _ => format!(
-            "hint: does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
+            "does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
         ),
     };
-    say!(log, Detail, "{advice}");
+    hint!(log, "{advice}");
     report.entries = log.entries;
     report.entries.extend(end);
     report.passed = false;
+    report.hint = log.hint;
 }
 
 /// `loop_subdivide` is built on `split_edge` and `flip_edge`: when those
@@ -1019,6 +1093,7 @@ pub fn note_dependencies(reports: &mut [CaseReport]) {
         let mut log = Log {
             entries: std::mem::take(&mut r.entries),
             passed: false,
+            hint: r.hint.take(),
         };
         say!(
             log,
@@ -1028,5 +1103,6 @@ pub fn note_dependencies(reports: &mut [CaseReport]) {
         );
         r.entries = log.entries;
         r.entries.extend(end);
+        r.hint = log.hint;
     }
 }

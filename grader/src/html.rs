@@ -2,7 +2,8 @@
 //!
 //! For every case: the input, the student's result and the expected result
 //! as OBJ files (MeshLab, Blender), and one self-contained offline
-//! `index.html` (inline CSS and SVG, no script, nothing fetched): the case
+//! `index.html` (inline CSS and SVG, no script but under `--watch`,
+//! nothing fetched): the case
 //! list at the top, failing cases first, and for each case its verdict and
 //! messages beside pictures of the input, the expected result and the
 //! student's result from three angles.
@@ -1577,11 +1578,9 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     }
 }
 
-fn first_warning(r: &CaseReport) -> Option<&str> {
-    r.entries
-        .iter()
-        .find(|e| e.level == Level::Warn)
-        .map(|e| e.text.as_str())
+/// The first warning as shown, student text in it escaped.
+fn first_warning_shown(r: &CaseReport) -> Option<String> {
+    crate::report::first_warning(r)
 }
 
 const STYLE: &str = r#"
@@ -1638,6 +1637,7 @@ svg.view .behind{opacity:.45}
 svg.view .labels{font:9px ui-monospace,Menlo,Consolas,monospace;fill:#1d2733;paint-order:stroke;stroke:#fff;stroke-width:2.5px;stroke-linejoin:round}
 svg.view .labels .red{fill:#c00000;font-weight:700}
 details.output pre{max-height:16em;overflow:auto;background:#f3f4f6;padding:6px}
+pre.quote{margin:2px 0;white-space:pre-wrap}
 "#;
 
 /// The legend, drawn with the pictures' own classes.
@@ -1676,8 +1676,8 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
         escape(&operation(f)),
         f.tolerance
     );
-    if let Some(w) = first_warning(r) {
-        let _ = writeln!(html, "<p class=\"verdict\">{}</p>", escape(w));
+    if let Some(w) = first_warning_shown(r) {
+        let _ = writeln!(html, "<p class=\"verdict\">{}</p>", escape(&w));
     }
     html.push_str("<ol>");
     for e in &r.entries {
@@ -1687,17 +1687,24 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
             Level::Detail if e.text.starts_with("hint:") => "detail hint",
             Level::Detail => "detail",
         };
-        let _ = write!(html, "<li class=\"{class}\">{}</li>", escape(&e.text));
+        let below = e.quote_below("");
+        let _ = write!(html, "<li class=\"{class}\">{}", escape(&e.one_line()));
+        if !below.is_empty() {
+            let _ = write!(html, "<pre class=\"quote\">{}</pre>", escape(&below));
+        }
+        html.push_str("</li>");
     }
     html.push_str("</ol>\n<p class=\"files\">OBJ files: ");
     for (what, name) in files {
         let _ = write!(html, "<a href=\"{0}\">{1}</a>", escape(name), what);
     }
     html.push_str("</p>\n");
-    if !r.output.is_empty() {
-        let lines = r.output.lines().count();
-        let mut shown: String = r.output.chars().take(OUTPUT_LIMIT).collect();
-        if shown.len() < r.output.len() {
+    if !r.output.is_blank() {
+        // Each line under `| `, control characters escaped, as everywhere.
+        let all = r.output.block("");
+        let lines = all.lines().count();
+        let mut shown: String = all.chars().take(OUTPUT_LIMIT).collect();
+        if shown.len() < all.len() {
             shown.push_str("\n… (cut)");
         }
         let _ = writeln!(
@@ -1777,12 +1784,13 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
                 html.push_str("</td>");
             }
             None if k == views[0].0 => {
-                let why = first_warning(r).unwrap_or("the function did not return a mesh");
+                let why = first_warning_shown(r)
+                    .unwrap_or_else(|| "the function did not return a mesh".to_string());
                 let _ = write!(
                     html,
                     "<td class=\"yours none\" rowspan=\"{}\">no mesh to show:<br>{}</td>",
                     views.len(),
-                    escape(why)
+                    escape(&why)
                 );
             }
             None => {}
@@ -1795,6 +1803,23 @@ fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, Str
 /// Writes the report for `cases` into `dir` (created if needed) and returns
 /// the path of its `index.html`.
 pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<PathBuf, String> {
+    write_report_live(dir, cases, false)
+}
+
+/// The file a live report polls: its stamp changes with every rewrite.
+pub const STAMP_FILE: &str = "watch-stamp.js";
+
+/// Reloads the page when the stamp [`STAMP_FILE`] sets changes: a script
+/// element, not `fetch`, which pages opened from `file://` may not use.
+const LIVE_SCRIPT: &str = "<script src=\"watch-stamp.js\"></script>\n<script>\n// Written by --watch: reload when the grader rewrites this report.\n(function () {\n  var first = window.meshlabStamp;\n  setInterval(function () {\n    var s = document.createElement('script');\n    s.src = 'watch-stamp.js?' + Date.now();\n    s.onload = function () { s.remove(); if (window.meshlabStamp !== first) location.reload(); };\n    s.onerror = function () { s.remove(); };\n    document.head.appendChild(s);\n  }, 1000);\n})();\n</script>\n";
+
+/// [`write_report`], and with `live` (under `--watch`) a page that reloads
+/// itself when a later run rewrites it.
+pub fn write_report_live(
+    dir: &Path,
+    cases: &[(&Fixture, &CaseReport)],
+    live: bool,
+) -> Result<PathBuf, String> {
     let io = |p: &Path, e: std::io::Error| format!("{}: {e}", p.display());
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     // Failing cases first, the counted ones before the bonus; otherwise in
@@ -1847,7 +1872,7 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
             "<tr class=\"{verdict}\"><td><span class=\"badge {verdict}\">{verdict}</span>{bonus}</td><td><a href=\"#case-{0}\">{0}</a></td><td>{1}</td><td>{2}</td></tr>",
             escape(&f.name),
             escape(&operation(f)),
-            escape(first_warning(r).unwrap_or(""))
+            escape(&first_warning_shown(r).unwrap_or_default())
         );
         case_html(&mut body, f, r, &files);
     }
@@ -1855,9 +1880,10 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
     let mut html = String::with_capacity(body.len() + list.len() + 8192);
     let _ = write!(
         html,
-        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>grader report: {failed} of {} failed</title>\n<style>{STYLE}{}</style>\n</head><body>\n<h1>Grader report</h1>\n",
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>grader report: {failed} of {} failed</title>\n<style>{STYLE}{}</style>\n{}</head><body>\n<h1>Grader report</h1>\n",
         order.len(),
-        shade_css()
+        shade_css(),
+        if live { LIVE_SCRIPT } else { "" }
     );
     let summary = if failed == 0 {
         format!("All {} cases passed.", order.len())
@@ -1877,6 +1903,15 @@ pub fn write_report(dir: &Path, cases: &[(&Fixture, &CaseReport)]) -> Result<Pat
     html.push_str("</body></html>\n");
     let index = dir.join("index.html");
     std::fs::write(&index, html).map_err(|e| io(&index, e))?;
+    if live {
+        // Written after the page, so a reload finds the new one.
+        let stamp = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let path = dir.join(STAMP_FILE);
+        std::fs::write(&path, format!("window.meshlabStamp = \"{stamp}\";\n"))
+            .map_err(|e| io(&path, e))?;
+    }
     Ok(index)
 }
 
@@ -1915,12 +1950,15 @@ mod tests {
             entries: vec![Entry {
                 level: Level::Warn,
                 text: text.to_string(),
+                quote: None,
                 file: file!(),
                 line: line!(),
             }],
-            output: "printed <b>\n".repeat(2000),
+            output: crate::quoted::Quoted::new("printed <b>\n".repeat(2000)),
+            timed_out: false,
             input: f.input.to_mesh().ok(),
             result,
+            hint: None,
         }
     }
 
@@ -2010,6 +2048,32 @@ mod tests {
             let report = failed(f, Some(mesh), "empty");
             write_report(&dir, &[(f, &report)]).expect("the report is written");
         }
+    }
+
+    #[test]
+    fn a_live_report_reloads_when_rewritten_and_a_plain_one_has_no_script() {
+        let f = fixture("cube-split");
+        let report = failed(&f, None, "split_edge panicked");
+        let dir = scratch("live");
+        let plain = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
+        assert!(!plain.contains("<script"), "no script without --watch");
+        assert!(!dir.join(STAMP_FILE).exists());
+        let page = write_report_live(&dir, &[(&f, &report)], true).unwrap();
+        let live = std::fs::read_to_string(&page).unwrap();
+        assert!(
+            live.contains("<script src=\"watch-stamp.js\"></script>"),
+            "{live}"
+        );
+        assert!(live.contains("location.reload()"));
+        let first = std::fs::read_to_string(dir.join(STAMP_FILE)).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(2));
+        write_report_live(&dir, &[(&f, &report)], true).unwrap();
+        let second = std::fs::read_to_string(dir.join(STAMP_FILE)).unwrap();
+        assert!(first.starts_with("window.meshlabStamp = \""), "{first}");
+        assert_ne!(
+            first, second,
+            "each rewrite changes the stamp the page polls"
+        );
     }
 
     #[test]

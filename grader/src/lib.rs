@@ -16,7 +16,8 @@
 //!   reading of its result ([`child::analyze`]).
 //! - [`matching`]: order-independent comparison of vertices and edges.
 //! - [`grade`]: the verdict and messages for one case.
-//! - [`report`]: text, JSON and Gradescope output.
+//! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
+//!   anything the student's code said is shown (as data, under `| `).
 //! - [`build_sandbox`]: the launcher that locks a student's build in (used
 //!   by the TA's class grading and the Gradescope bundle).
 //!
@@ -38,6 +39,7 @@ pub mod fixture;
 pub mod grade;
 pub mod html;
 pub mod matching;
+pub mod quoted;
 pub mod relabel;
 pub mod report;
 pub mod runner;
@@ -122,6 +124,11 @@ pub struct Cli {
     /// counts as an endless loop (0.1 to 3600).
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     pub timeout: f64,
+    /// Seconds the whole run may take: the limit of each call is shortened
+    /// if need be, so that every run of every selected case fits (each case
+    /// runs once per labelling of its input; the runs are counted).
+    #[arg(long, value_name = "SECONDS")]
+    pub budget: Option<f64>,
     /// The most memory a case may use, e.g. 2G or 512M (64M to 64G).
     #[arg(long, value_name = "SIZE", default_value = "2G", value_parser = parse_memory)]
     pub memory: u64,
@@ -129,6 +136,10 @@ pub struct Cli {
     /// other protections).
     #[arg(long, hide = true)]
     pub without_landlock: bool,
+    /// Grade without a PID namespace, as on a machine that has none (to
+    /// test the fallback: the sweep and the parent-death signals).
+    #[arg(long, hide = true)]
+    pub without_pid_namespace: bool,
     /// Seed of the relabelled inputs each case also runs on [default: one
     /// per case, fixed]; a failure prints the seed that shows it.
     #[arg(long, value_name = "N")]
@@ -299,17 +310,117 @@ fn budget(fixture: &Fixture) -> usize {
     (expected * 16).max(10_000)
 }
 
-/// A case ready to run: its fixture and its input mesh.
+/// A case ready to run: its fixture, its input mesh and every labelling
+/// of it the case runs on.
 struct Case<'a> {
     fixture: &'a Fixture,
-    input: halfedge::Mesh,
+    seed: u64,
+    labellings: Vec<relabel::Labelling>,
 }
+
+impl<'a> Case<'a> {
+    fn new(fixture: &'a Fixture, input: halfedge::Mesh, cli: &Cli) -> Case<'a> {
+        let seed = cli
+            .seed
+            .unwrap_or_else(|| relabel::default_seed(&fixture.name));
+        let labellings =
+            relabel::labellings(&input, fixture.edge_in(&input), seed, RANDOM_LABELLINGS);
+        Case {
+            fixture,
+            seed,
+            labellings,
+        }
+    }
+}
+
+/// How many cases run side by side: one per core, at most four.
+fn workers(cases: usize) -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 4)
+        .min(cases.max(1))
+}
+
+/// Seconds each child run may cost beyond its call (start, lock-in,
+/// sending the mesh, judging), and the run's own start (loading and checking
+/// the fixtures), as counted against `--budget`.
+const RUN_OVERHEAD: f64 = 0.05;
+const RUN_START: f64 = 1.0;
+
+/// How long a run may take, worked out from the runs it makes.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Plan {
+    /// Child runs if every case passes (one per labelling).
+    pub runs: usize,
+    /// Most runs of one case.
+    pub longest_case: usize,
+    pub workers: usize,
+    /// Seconds each call may take.
+    pub timeout: f64,
+    /// `--budget`, when given.
+    pub budget: Option<f64>,
+}
+
+impl Plan {
+    /// The per-call limit: `timeout`, shortened so that `budget` holds the
+    /// worst a run can take. Cases run on `workers` side by side, each
+    /// case's runs one after another, so (list scheduling) the run ends
+    /// within runs/w + (1 - 1/w) x longest case of run-times; a case that
+    /// fails stops early and a function that timed out gets a shorter
+    /// limit, so that bound holds whatever the student's code does.
+    fn new(
+        runs: usize,
+        longest_case: usize,
+        workers: usize,
+        timeout: f64,
+        budget: Option<f64>,
+    ) -> Plan {
+        let w = workers.max(1) as f64;
+        let slots = runs as f64 / w + (1.0 - 1.0 / w) * longest_case as f64;
+        let timeout = match budget {
+            Some(b) if slots > 0.0 => {
+                // In hundredths of a second, as the messages show it.
+                let share = (((b - RUN_START) / slots - RUN_OVERHEAD) * 100.0).floor() / 100.0;
+                // Never below the shortest limit the grader takes; the
+                // time line says when the budget cannot hold every run.
+                timeout.min(share).max(MIN_TIMEOUT)
+            }
+            _ => timeout,
+        };
+        Plan {
+            runs,
+            longest_case,
+            workers,
+            timeout,
+            budget,
+        }
+    }
+
+    fn of(cases: &[Case], cli: &Cli) -> Plan {
+        let runs = cases.iter().map(|c| c.labellings.len()).sum();
+        let longest = cases.iter().map(|c| c.labellings.len()).max().unwrap_or(0);
+        Plan::new(runs, longest, workers(cases.len()), cli.timeout, cli.budget)
+    }
+
+    /// The line the text report gives it when `--budget` shortened the limit.
+    pub fn describe(&self, asked: f64) -> Option<String> {
+        let budget = self.budget?;
+        (self.timeout < asked).then(|| {
+            format!(
+                "time: each call may take {:.2} s, not {asked} s, so that {} runs ({} side by side) fit in the budget of {budget} s",
+                self.timeout, self.runs, self.workers
+            )
+        })
+    }
+}
+
+/// The shortest `--timeout` taken.
+const MIN_TIMEOUT: f64 = 0.1;
 
 /// Grades one case on every labelling of its input, stopping at the first
 /// that fails. `Err` when the sandbox could not be set up.
 fn grade_case(
     case: &Case,
-    cli: &Cli,
     program: &runner::ChildProgram,
     limits: &sandbox::Limits,
     timeout: Duration,
@@ -317,9 +428,7 @@ fn grade_case(
 ) -> Result<grade::CaseReport, String> {
     use runner::{ChildReport, Exit, Run};
     let f = case.fixture;
-    let seed = cli.seed.unwrap_or_else(|| relabel::default_seed(&f.name));
-    let labellings =
-        relabel::labellings(&case.input, f.edge_in(&case.input), seed, RANDOM_LABELLINGS);
+    let (seed, labellings) = (case.seed, &case.labellings);
     let budget = budget(f);
     let mut first = None;
     for (i, l) in labellings.iter().enumerate() {
@@ -403,16 +512,13 @@ fn grade_case(
 /// per case.
 fn grade_all(
     cases: &[Case],
-    cli: &Cli,
+    timeout: f64,
     program: &runner::ChildProgram,
     limits: &sandbox::Limits,
 ) -> Result<(Vec<grade::CaseReport>, Option<String>), String> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
-    let workers = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, 4)
-        .min(cases.len());
+    let workers = workers(cases.len());
     let next = AtomicUsize::new(0);
     let timed_out: Mutex<Vec<(Stage, String)>> = Mutex::new(Vec::new());
     let protections: Mutex<Option<String>> = Mutex::new(None);
@@ -433,25 +539,19 @@ fn grade_all(
                     .find(|(s, _)| *s == stage)
                     .map(|(_, n)| n.clone());
                 let limit = match &earlier {
-                    Some(_) => cli.timeout.min(SHORT_LIMIT),
-                    None => cli.timeout,
+                    Some(_) => timeout.min(SHORT_LIMIT),
+                    None => timeout,
                 };
                 let mut status = None;
                 let result = grade_case(
                     case,
-                    cli,
                     program,
                     limits,
                     Duration::from_secs_f64(limit),
                     &mut status,
                 )
                 .map(|mut r| {
-                    let timed = r.entries.iter().any(|e| {
-                        e.level == grade::Level::Warn
-                            && (e.text.contains("did not finish within")
-                                || e.text.contains("was never reached"))
-                    });
-                    if timed {
+                    if r.timed_out {
                         match &earlier {
                             Some(name) => grade::add_detail(
                                 &mut r,
@@ -512,7 +612,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         let file = cli.watch_file.clone().unwrap_or_else(watch::default_file);
         return watch::watch(&file);
     }
-    if !(cli.timeout >= 0.1 && cli.timeout <= 3600.0) {
+    if !(cli.timeout >= MIN_TIMEOUT && cli.timeout <= 3600.0) {
         return usage_error(&format!(
             "--timeout {} is out of range: give a number of seconds from 0.1 to 3600",
             cli.timeout
@@ -526,7 +626,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     let mut cases = Vec::new();
     for f in &all {
         match f.input_mesh() {
-            Ok(input) => cases.push(Case { fixture: f, input }),
+            Ok(input) => cases.push((f, input)),
             Err(e) => {
                 return usage_error(&format!(
                     "bad fixture: {}: {e}: tell a TA",
@@ -535,12 +635,14 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
             }
         }
     }
-    cases.retain(|c| {
-        cli.case.as_ref().is_none_or(|n| *n == c.fixture.name)
-            && cli
-                .stage
-                .is_none_or(|s| s.stage() == c.fixture.operation.stage())
+    cases.retain(|(f, _)| {
+        cli.case.as_ref().is_none_or(|n| *n == f.name)
+            && cli.stage.is_none_or(|s| s.stage() == f.operation.stage())
     });
+    let cases: Vec<Case> = cases
+        .into_iter()
+        .map(|(f, input)| Case::new(f, input, cli))
+        .collect();
     if let Some(name) = &cli.case {
         if cases.is_empty() {
             let names: Vec<&str> = all.iter().map(|f| f.name.as_str()).collect();
@@ -558,6 +660,25 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     if cases.is_empty() {
         return usage_error(&format!("no cases found in {}", root.display()));
     }
+    if cli.list && cli.format == Format::Json {
+        // What scripts need to share out a time budget: the runs per case.
+        let list: Vec<serde_json::Value> = cases
+            .iter()
+            .map(|c| {
+                serde_json::json!({
+                    "name": c.fixture.name,
+                    "group": c.fixture.group,
+                    "stage": c.fixture.operation.stage(),
+                    "runs": c.labellings.len(),
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&list).expect("the list serializes")
+        );
+        return ExitCode::SUCCESS;
+    }
     if cli.list {
         for c in &cases {
             let f = c.fixture;
@@ -574,10 +695,19 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     runner::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
-        drop_user: sandbox::runnable_by_others(&program.exe),
+        drop_user: true,
         landlock: !cli.without_landlock,
+        pid_namespace: !cli.without_pid_namespace,
     };
-    let reports = match grade_all(&cases, cli, program, &limits) {
+    if let Some(b) = cli.budget {
+        if !(b > 0.0 && b <= 86_400.0) {
+            return usage_error(&format!(
+                "--budget {b} is out of range: give a number of seconds up to 86400"
+            ));
+        }
+    }
+    let plan = Plan::of(&cases, cli);
+    let reports = match grade_all(&cases, plan.timeout, program, &limits) {
         Ok(r) => r,
         Err(e) => return usage_error(&e),
     };
@@ -589,13 +719,18 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         .as_deref()
         .map(sandbox::describe_status)
         .unwrap_or_else(|| "protections: unknown (no case reported them)".into());
+    let time_line = plan.describe(cli.timeout);
     let protections_json = protections.clone();
     let report_path = match &cli.report {
         None => None,
         Some(dir) => {
             let pairs: Vec<(&Fixture, &grade::CaseReport)> =
                 cases.iter().map(|c| c.fixture).zip(&reports).collect();
-            match html::write_report(dir, &pairs) {
+            #[cfg(unix)]
+            let live = watch::is_inner();
+            #[cfg(not(unix))]
+            let live = false;
+            match html::write_report_live(dir, &pairs, live) {
                 Ok(index) => Some(index),
                 Err(e) => return usage_error(&format!("cannot write the report: {e}")),
             }
@@ -613,9 +748,11 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                 quiet: cli.quiet,
                 partial: partial_run(cli),
                 report: report_path.as_ref().map(|p| p.display().to_string()),
+                focus: cli.case.clone(),
+                time: time_line,
             },
         ),
-        Format::Json => report::json(&reports, bonus, &protections_json),
+        Format::Json => report::json(&reports, bonus, &protections_json, &plan),
     };
     print!("{output}");
     if let Some(path) = &cli.gradescope {
@@ -627,5 +764,25 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_budget_shortens_the_limit_by_the_runs_it_must_hold() {
+        // Ample: the limit asked for stays.
+        assert_eq!(Plan::new(120, 5, 1, 0.4, Some(100.0)).timeout, 0.4);
+        // One worker: every run one after another.
+        let p = Plan::new(120, 5, 1, 10.0, Some(61.0));
+        assert_eq!(p.timeout, 0.45, "{p:?}");
+        // Two: half the runs, plus what the longest case may leave over.
+        let p = Plan::new(120, 5, 2, 10.0, Some(63.5));
+        assert_eq!(p.timeout, 0.95, "{p:?}");
+        // No budget, or one too short: the limit asked for, or the shortest.
+        assert_eq!(Plan::new(120, 5, 1, 3.0, None).timeout, 3.0);
+        assert_eq!(Plan::new(120, 5, 1, 3.0, Some(2.0)).timeout, MIN_TIMEOUT);
     }
 }

@@ -36,20 +36,28 @@ fn log_line(out: &mut String, file: &str, line: u32, warn: bool, text: &str, col
 fn render_case(out: &mut String, case: &CaseReport, color: bool) {
     for (i, e) in case.entries.iter().enumerate() {
         match e.level {
-            Level::Info => log_line(out, e.file, e.line, false, &e.text, color),
-            Level::Warn => log_line(out, e.file, e.line, true, &e.text, color),
+            Level::Info => log_line(out, e.file, e.line, false, &e.one_line(), color),
+            Level::Warn => log_line(out, e.file, e.line, true, &e.one_line(), color),
             Level::Detail => {
-                let _ = writeln!(out, "        {}", e.text);
+                let _ = writeln!(out, "        {}", e.one_line());
             }
         }
+        out.push_str(&e.quote_below("        "));
         // The student's output goes right under "start testing", where it ran.
-        if i == 0 && !case.output.trim().is_empty() {
+        if i == 0 && !case.output.is_blank() {
             let _ = writeln!(out, "    your code printed:");
-            for l in case.output.trim_end().lines() {
-                let _ = writeln!(out, "    | {l}");
-            }
+            out.push_str(&case.output.block("    "));
         }
     }
+}
+
+/// A failed case's first warning on one line (student text in it escaped
+/// and cut), as the summary, JSON and the class reports show it.
+pub fn first_warning(case: &CaseReport) -> Option<String> {
+    case.entries
+        .iter()
+        .find(|e| e.level == Level::Warn)
+        .map(|e| e.one_line())
 }
 
 /// How the text report is shown.
@@ -70,6 +78,11 @@ pub struct TextOptions {
     pub partial: Option<String>,
     /// Where `--report` wrote its index.html, said above the verdict.
     pub report: Option<String>,
+    /// The case the run was limited to (`--case NAME`): `next:` never
+    /// suggests the command just run.
+    pub focus: Option<String>,
+    /// The per-call limit, when `--budget` shortened it.
+    pub time: Option<String>,
 }
 
 /// At most this many failing cases are listed in the summary.
@@ -84,6 +97,9 @@ pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
     let color = opts.color;
     let mut out = String::new();
     log_line(&mut out, file!(), line!(), false, &opts.protections, color);
+    if let Some(time) = &opts.time {
+        log_line(&mut out, file!(), line!(), false, time, color);
+    }
     let (main, extra): (Vec<_>, Vec<_>) = cases.iter().partition(|c| c.group != Group::Bonus);
     if !opts.quiet {
         for case in &main {
@@ -123,6 +139,28 @@ pub fn text(cases: &[CaseReport], opts: &TextOptions) -> String {
     out
 }
 
+/// (text, case) pairs grouped by text, in first-seen order: cases that
+/// failed alike, or got the same hint, share a line.
+fn alike<'a>(items: impl Iterator<Item = (String, &'a str)>) -> Vec<(String, Vec<&'a str>)> {
+    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
+    for (text, name) in items {
+        match groups.iter_mut().find(|(t, _)| *t == text) {
+            Some((_, names)) => names.push(name),
+            None => groups.push((text, vec![name])),
+        }
+    }
+    groups
+}
+
+/// "cube-split", or "cube-split and 3 more".
+fn who(names: &[&str]) -> String {
+    match names {
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!("{first} and {} more", rest.len()),
+        [] => String::new(),
+    }
+}
+
 /// The last lines: tallies, failures, what to do next, the verdict.
 fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
     let color = opts.color;
@@ -156,31 +194,17 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         .filter(|c| !c.passed && counts(c, opts.bonus))
         .collect();
     // Cases that failed with the same first warning share one line.
-    let first_warning = |c: &CaseReport| -> String {
-        c.entries
-            .iter()
-            .find(|e| e.level == Level::Warn)
-            .map_or("failed".to_string(), |e| e.text.clone())
-    };
-    let mut groups: Vec<(String, Vec<&str>)> = Vec::new();
-    for c in &failed {
-        let text = first_warning(c);
-        match groups.iter_mut().find(|(t, _)| *t == text) {
-            Some((_, names)) => names.push(&c.name),
-            None => groups.push((text, vec![&c.name])),
-        }
-    }
+    let groups = alike(failed.iter().map(|c| {
+        let text = first_warning(c).unwrap_or_else(|| "failed".to_string());
+        (text, c.name.as_str())
+    }));
     for (text, names) in groups.iter().take(SUMMARY_FAILURES) {
-        let who = match names.len() {
-            1 => names[0].to_string(),
-            n => format!("{} and {} more", names[0], n - 1),
-        };
         log_line(
             out,
             file!(),
             line!(),
             true,
-            &format!("{who}: {text}"),
+            &format!("{}: {text}", who(names)),
             color,
         );
     }
@@ -198,6 +222,23 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             color,
         );
     }
+    // Each hint once, under the failures, in its own words: where students
+    // read, not only above under its case.
+    let hints = alike(
+        failed
+            .iter()
+            .filter_map(|c| Some((c.hint.clone()?, c.name.as_str()))),
+    );
+    for (hint, names) in hints.iter().take(SUMMARY_FAILURES) {
+        log_line(
+            out,
+            file!(),
+            line!(),
+            false,
+            &format!("hint for {}: {hint}", who(names)),
+            color,
+        );
+    }
     if let Some(index) = &opts.report {
         log_line(
             out,
@@ -209,18 +250,23 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
         );
     }
     if let Some(first) = failed.first() {
-        log_line(
-            out,
-            file!(),
-            line!(),
-            false,
-            &format!(
-                "next: fix {} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
-                first.stage.function(),
+        let function = first.stage.function();
+        let next = match (&opts.focus, &opts.report) {
+            // Already that case alone with pictures: what to look at, then
+            // what to run once it is fixed.
+            (Some(case), Some(index)) if *case == first.name => format!(
+                "next: fix {function}, looking at the messages above and the pictures in {index}; \
+                 then run this command again, and `cargo run -p grader` for the whole lab"
+            ),
+            (Some(case), None) if *case == first.name => format!(
+                "next: fix {function}; to see the case, with pictures: cargo run -p grader -- --case {case} --report"
+            ),
+            _ => format!(
+                "next: fix {function} first; see that case alone, with pictures: cargo run -p grader -- --case {} --report",
                 first.name
             ),
-            color,
-        );
+        };
+        log_line(out, file!(), line!(), false, &next, color);
         log_line(out, file!(), line!(), true, "test failed", color);
     } else if let Some(part) = &opts.partial {
         let n = cases.iter().filter(|c| counts(c, opts.bonus)).count();
@@ -251,16 +297,36 @@ struct JsonReport<'a> {
     passed: bool,
     bonus_counted: bool,
     protections: &'a str,
-    cases: &'a [CaseReport],
+    /// The runs and the per-call limit they were given.
+    plan: &'a crate::Plan,
+    cases: Vec<JsonCase<'a>>,
 }
 
-/// The report as JSON, for scripts.
-pub fn json(cases: &[CaseReport], bonus: bool, protections: &str) -> String {
+/// A case in JSON: its report, and its first warning on one line, ready
+/// to show (student text in it escaped).
+#[derive(Serialize)]
+struct JsonCase<'a> {
+    #[serde(flatten)]
+    case: &'a CaseReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    first_warning: Option<String>,
+}
+
+/// The report as JSON, for scripts. Student text (`output`, an entry's
+/// `quote`) is a list of escaped lines; `text` is the grader's words only.
+pub fn json(cases: &[CaseReport], bonus: bool, protections: &str, plan: &crate::Plan) -> String {
     serde_json::to_string_pretty(&JsonReport {
         passed: all_passed(cases, bonus),
         bonus_counted: bonus,
         protections,
-        cases,
+        plan,
+        cases: cases
+            .iter()
+            .map(|case| JsonCase {
+                case,
+                first_warning: first_warning(case),
+            })
+            .collect(),
     })
     .expect("reports serialize")
 }
@@ -289,10 +355,11 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
         let mut lines: Vec<String> = Vec::new();
         for e in &c.entries {
             match e.level {
-                Level::Info => {}
-                Level::Warn => lines.push(format!("[warn] {}", e.text)),
-                Level::Detail => lines.push(format!("    {}", e.text)),
+                Level::Info => continue,
+                Level::Warn => lines.push(format!("[warn] {}", e.one_line())),
+                Level::Detail => lines.push(format!("    {}", e.one_line())),
             }
+            lines.extend(e.quote_below("    ").lines().map(str::to_string));
         }
         if lines.len() > GRADESCOPE_REPORT_LINES {
             let more = lines.len() - GRADESCOPE_REPORT_LINES;
@@ -307,19 +374,9 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
         } else {
             lines.join("\n") + "\n"
         };
-        let printed: Vec<&str> = c.output.trim_end().lines().collect();
-        if !c.output.trim().is_empty() {
+        if !c.output.is_blank() {
             output.push_str("your code printed:\n");
-            for l in printed.iter().take(GRADESCOPE_OUTPUT_LINES) {
-                let _ = writeln!(output, "| {l}");
-            }
-            if printed.len() > GRADESCOPE_OUTPUT_LINES {
-                let _ = writeln!(
-                    output,
-                    "| ... ({} more lines)",
-                    printed.len() - GRADESCOPE_OUTPUT_LINES
-                );
-            }
+            output.push_str(&c.output.block_limited("", GRADESCOPE_OUTPUT_LINES));
         }
         let function = c.stage.function();
         let (name, visibility, tags) = match c.group {

@@ -3,14 +3,19 @@
 //! the moment the student's function is called, and kills everything the
 //! child started.
 //!
-//! Three pipes: the request goes in on the child's stdin; frames come back
-//! on its stdout (see [`crate::wire`]); whatever the student's code prints
-//! (stdout and stderr both) arrives on its stderr. No pipe is waited on
-//! past the deadline: the child runs in its own process group, which is
-//! killed at the deadline and after every case, and the grader is a
-//! "child subreaper", so a process that left the group (setsid, double
-//! fork) becomes the grader's child when its parent dies and is found and
-//! killed too.
+//! Three pipes: the request goes in on the launcher's stdin (the child
+//! reads it on [`crate::sandbox::REQUEST_FD`], its stdin is `/dev/null`);
+//! frames come back on its stdout (see [`crate::wire`]); whatever the
+//! student's code prints (stdout and stderr both) arrives on its stderr.
+//! No pipe is waited on past the deadline: the launcher starts in a
+//! session and process group of its own, which is killed at the deadline
+//! and after every case; where the launcher could make a PID namespace,
+//! the case ends with it and nothing is swept; elsewhere the grader is a
+//! "child subreaper", so a process that left the group becomes the
+//! grader's child when its parent dies and is found and killed too.
+//! Before its first case the grader makes itself non-dumpable
+//! ([`guard_grader`]); a root grader runs a child program `nobody` may not
+//! execute from a private copy.
 
 use std::ffi::OsString;
 use std::io::{Read, Write};
@@ -125,6 +130,97 @@ pub fn become_subreaper() {
     }
 }
 
+/// Whether the grader made itself non-dumpable (see [`guard_grader`]).
+static NOT_DUMPABLE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Protects the grading process before its first case, whichever program
+/// grades: a subreaper (for the sweep), and not dumpable, so that no
+/// process of its user opens its `/proc/PID/mem` (its heap holds every
+/// expected answer) or attaches to it, with or without Landlock. Idempotent.
+pub fn guard_grader() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        become_subreaper();
+        // SAFETY: plain prctl calls.
+        #[cfg(target_os = "linux")]
+        unsafe {
+            if libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0) == 0
+                && libc::prctl(libc::PR_GET_DUMPABLE, 0, 0, 0, 0) == 0
+            {
+                NOT_DUMPABLE.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+        }
+    });
+}
+
+/// Whether [`guard_grader`] made this process non-dumpable.
+pub fn grader_not_dumpable() -> bool {
+    NOT_DUMPABLE.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Private copies of child programs `nobody` may not run (see
+/// [`runnable_program`]): (the program, its copy's folder, the copy).
+static COPIES: std::sync::Mutex<Vec<(PathBuf, PathBuf, PathBuf)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Removes the private copies when the grader exits.
+extern "C" fn remove_copies() {
+    let copies = COPIES.lock().unwrap_or_else(|e| e.into_inner());
+    for (_, dir, _) in copies.iter() {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
+/// The program to start for a case: `exe` itself, unless the grader is
+/// root and `nobody` may not execute it (a build made with umask 077):
+/// then a copy that `nobody` may execute, in a folder only root can enter
+/// (the launcher opens it as root and runs it by descriptor), made once
+/// and removed when the grader exits. Student code never runs as root: if
+/// no copy can be made, grading stops with why.
+fn runnable_program(exe: &std::path::Path, limits: &Limits) -> Result<PathBuf, String> {
+    // SAFETY: geteuid only reads.
+    let root = unsafe { libc::geteuid() } == 0;
+    if !root || !limits.drop_user || sandbox::runnable_by_others(exe) {
+        return Ok(exe.to_path_buf());
+    }
+    let mut copies = COPIES.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, _, copy)) = copies.iter().find(|(p, _, _)| p == exe) {
+        return Ok(copy.clone());
+    }
+    let fail = |e: &dyn std::fmt::Display| {
+        format!(
+            "the child program {} may not be run by user nobody, and no copy that may \
+             could be made in {} ({e}); student code never runs as root: make the \
+             program executable by others (chmod o+x) or grade as another user",
+            exe.display(),
+            std::env::temp_dir().display()
+        )
+    };
+    use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let dir = std::env::temp_dir().join(format!("meshlab-child-{}-{stamp:x}", std::process::id()));
+    std::fs::DirBuilder::new()
+        .mode(0o700)
+        .create(&dir)
+        .map_err(|e| fail(&e))?;
+    let name = exe.file_name().unwrap_or(std::ffi::OsStr::new("child"));
+    let copy = dir.join(name);
+    let made = std::fs::copy(exe, &copy)
+        .and_then(|_| std::fs::set_permissions(&copy, std::fs::Permissions::from_mode(0o755)));
+    if let Err(e) = made {
+        let _ = std::fs::remove_dir_all(&dir);
+        return Err(fail(&e));
+    }
+    if copies.is_empty() {
+        // SAFETY: registers a plain function, once.
+        unsafe { libc::atexit(remove_copies) };
+    }
+    copies.push((exe.to_path_buf(), dir, copy.clone()));
+    Ok(copy)
+}
+
 /// The ids of the processes whose parent is `parent`, from /proc (none
 /// where there is no /proc).
 fn children_of(parent: u32) -> Vec<u32> {
@@ -173,6 +269,19 @@ pub fn kill_descendants() {
                 libc::waitpid(pid as i32, std::ptr::null_mut(), 0);
             }
         }
+    }
+}
+
+/// [`kill_descendants`], unless the launcher reported a PID namespace:
+/// then every process of the case lives in it (an orphan there goes to its
+/// init, never to the grader) and dies with it, and the sweep, a walk of
+/// all `/proc`, would find nothing.
+fn sweep_unless_contained(sandbox_status: &Option<String>) {
+    let contained = sandbox_status
+        .as_deref()
+        .is_some_and(|s| s.split_whitespace().any(|kv| kv == "pidns=1"));
+    if !contained {
+        kill_descendants();
     }
 }
 
@@ -258,16 +367,38 @@ pub fn run_child(
     max_result: usize,
 ) -> std::io::Result<RawReport> {
     use std::os::unix::process::CommandExt;
+    guard_grader();
+    let exe = match runnable_program(&program.exe, limits) {
+        Ok(exe) => exe,
+        Err(why) => {
+            return Ok(RawReport {
+                exit: Exit::SandboxFailed(why),
+                output: String::new(),
+                sandbox: None,
+            })
+        }
+    };
     let launcher = std::env::current_exe()?;
     let mut cmd = Command::new(launcher);
-    cmd.args(sandbox::launcher_args(limits, &program.exe, &program.args))
+    cmd.args(sandbox::launcher_args(limits, &exe, &program.args))
         .env_clear()
-        .process_group(0)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     if let Some(log) = std::env::var_os("RUST_LOG") {
         cmd.env("RUST_LOG", log);
+    }
+    // Its own session (and so its own process group, killed as one), from
+    // before the launcher runs any code: it never holds the grader's
+    // terminal, and code stuck before `main` is in the group too.
+    // SAFETY: setsid is async-signal-safe and touches no memory.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::setsid() < 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
     }
     let mut child = {
         let mut running = active();
@@ -321,12 +452,12 @@ pub fn run_child(
                 status = Some(s);
                 // Whatever it started dies with it, and lets go of the pipes.
                 kill_group(pid);
-                kill_descendants();
+                sweep_unless_contained(&sandbox_status);
             }
             Err(_) if status.is_some() || limit_hit.is_some() => break,
             Err(_) => {
                 kill_group(pid);
-                kill_descendants();
+                sweep_unless_contained(&sandbox_status);
                 limit_hit = Some(match started {
                     Some(_) => Exit::TimedOut(timeout),
                     None => Exit::StuckBeforeCall(timeout + SETUP_GRACE),
@@ -336,7 +467,7 @@ pub fn run_child(
     }
     kill_group(pid);
     active().retain(|&p| p != pid);
-    kill_descendants();
+    sweep_unless_contained(&sandbox_status);
     let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
     let exit = classify(limit_hit, status, result, &output, sandbox_status.is_some());
     Ok(RawReport {

@@ -6,18 +6,30 @@
 //! again as a *launcher* (grader code only), which takes every privilege
 //! away and then `exec`s the child program, born locked:
 //!
+//! - Its own session (the runner calls `setsid`; the launcher checks): no
+//!   controlling terminal. Its stdin is `/dev/null`; the request comes on
+//!   [`REQUEST_FD`].
+//! - A PID namespace where one can be had (as root, or in an unprivileged
+//!   user namespace that maps only the grader's user): the launcher stays
+//!   outside and waits, the namespace's init (grader code) waits for the
+//!   child, and when the case ends the kernel kills everything left in the
+//!   namespace. Elsewhere the runner's sweep of orphans is the catch.
 //! - Landlock (best ABI the kernel offers, up to 6): no file may be read,
 //!   written or executed except the child program, the system's shared
 //!   libraries (read and map) and its own `/proc/self` (read); no TCP; no signals to, and no abstract
 //!   sockets of, processes outside the sandbox. It cannot be undone.
 //! - `RLIMIT_AS` (the memory cap), `RLIMIT_FSIZE` 0 (no file can grow, even
 //!   without Landlock), `RLIMIT_CORE` 0.
-//! - As root, it drops to user `nobody` (and a process cap, which only
-//!   binds users other than root) when the child program is readable by
-//!   everyone.
+//! - As root, it always drops to user `nobody` (and a process cap, which
+//!   only binds users other than root); a launcher that would still be
+//!   root refuses to start the child. Every capability is dropped.
 //! - A seccomp filter ([`crate::seccomp`]): no new processes, no sockets,
-//!   no IPC, no reaching other processes' priority or limits.
-//! - `PR_SET_PDEATHSIG`: if the grader dies, so does the child.
+//!   no IPC, no reaching other processes, no `prctl` that undoes any of
+//!   this, no terminal input, no file watches.
+//! - `PR_SET_PDEATHSIG`: if the grader dies, so does the launcher, and so
+//!   on down to the child (the filter keeps it from being cleared).
+//! - Not dumpable (the launcher's processes): no process of the same user
+//!   reads their memory.
 //! - An empty environment and `/` as working folder: nothing names a
 //!   fixture, a result file or the grader's options.
 //!
@@ -42,11 +54,16 @@ const NOBODY: u32 = 65534;
 pub struct Limits {
     /// The address-space cap in bytes.
     pub memory: u64,
-    /// Whether to drop to `nobody` when running as root.
+    /// Whether to drop to `nobody` when running as root. Always on in
+    /// grading: off, a root launcher refuses to start the child at all
+    /// (student code never runs as root).
     pub drop_user: bool,
     /// Whether to apply Landlock (off only to test what a kernel without
     /// it leaves: the other protections must still hold).
     pub landlock: bool,
+    /// Whether to try a PID namespace (off only to test the fallback a
+    /// machine without them has: the sweep and the parent-death signals).
+    pub pid_namespace: bool,
 }
 
 impl Default for Limits {
@@ -55,6 +72,7 @@ impl Default for Limits {
             memory: 2 << 30,
             drop_user: true,
             landlock: true,
+            pid_namespace: true,
         }
     }
 }
@@ -73,7 +91,7 @@ pub fn format_bytes(bytes: u64) -> String {
 }
 
 /// The launcher's command line: `LAUNCH_ARG memory drop|keep
-/// landlock|nolandlock child args...`.
+/// landlock|nolandlock pidns|nopidns child args...`.
 pub fn launcher_args(limits: &Limits, child: &Path, child_args: &[OsString]) -> Vec<OsString> {
     let mut args: Vec<OsString> = vec![
         LAUNCH_ARG.into(),
@@ -83,6 +101,12 @@ pub fn launcher_args(limits: &Limits, child: &Path, child_args: &[OsString]) -> 
             "landlock"
         } else {
             "nolandlock"
+        }
+        .into(),
+        if limits.pid_namespace {
+            "pidns"
+        } else {
+            "nopidns"
         }
         .into(),
         child.as_os_str().to_owned(),
@@ -108,8 +132,11 @@ pub fn launch_if_asked() {
 }
 
 fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), String> {
-    let [memory, drop, landlock, child, rest @ ..] = args else {
-        return Err("the launcher needs: MEMORY drop|keep landlock|nolandlock CHILD [ARGS]".into());
+    let [memory, drop, landlock, pidns, child, rest @ ..] = args else {
+        return Err(
+            "the launcher needs: MEMORY drop|keep landlock|nolandlock pidns|nopidns CHILD [ARGS]"
+                .into(),
+        );
     };
     let memory = memory
         .to_str()
@@ -120,6 +147,7 @@ fn parse_launch(args: &[OsString]) -> Result<(Limits, PathBuf, Vec<OsString>), S
             memory,
             drop_user: drop == "drop",
             landlock: landlock == "landlock",
+            pid_namespace: pidns == "pidns",
         },
         PathBuf::from(child),
         rest.to_vec(),
@@ -246,52 +274,418 @@ fn landlock(program: &std::fs::File) -> Result<i32, String> {
     })
 }
 
+/// The descriptor the child reads its request on. Its standard input is
+/// `/dev/null`: never a terminal, whatever started the grader.
+pub const REQUEST_FD: i32 = 3;
+
+fn os_error(what: &str) -> String {
+    format!("{what}: {}", std::io::Error::last_os_error())
+}
+
+/// Moves the request pipe (the launcher's stdin) to [`REQUEST_FD`] and puts
+/// `/dev/null` on stdin. Whatever the grader inherited on `REQUEST_FD` is
+/// closed by the move.
+fn move_request() -> Result<(), String> {
+    // SAFETY: plain system calls on our own descriptor table.
+    unsafe {
+        if libc::dup2(0, REQUEST_FD) < 0 {
+            return Err(os_error("cannot move the request pipe"));
+        }
+        let null = libc::open(c"/dev/null".as_ptr(), libc::O_RDWR);
+        if null < 0 || libc::dup2(null, 0) < 0 {
+            return Err(os_error("cannot open /dev/null"));
+        }
+        if null != 0 {
+            libc::close(null);
+        }
+    }
+    Ok(())
+}
+
+/// Makes sure this process leads a session of its own (the runner starts
+/// it so): with no controlling terminal, nothing it starts can open
+/// `/dev/tty` or type into the terminal the grader runs in.
+fn own_session() -> Result<(), String> {
+    // SAFETY: plain system calls.
+    unsafe {
+        if libc::getsid(0) != libc::getpid() && libc::setsid() < 0 {
+            return Err(os_error("cannot start a session of its own"));
+        }
+    }
+    Ok(())
+}
+
+/// `PR_SET_PDEATHSIG`: this process is killed when its parent ends.
+/// Returns whether the parent had already gone, as far as `getppid` can
+/// tell (1: reparented to init).
+fn die_with_parent() -> bool {
+    // SAFETY: plain system calls.
+    unsafe {
+        #[cfg(target_os = "linux")]
+        libc::prctl(
+            libc::PR_SET_PDEATHSIG,
+            libc::SIGKILL as libc::c_ulong,
+            0,
+            0,
+            0,
+        );
+        libc::getppid() == 1
+    }
+}
+
+#[cfg(target_os = "linux")]
+/// Points 0, 1, 2 and [`REQUEST_FD`] at `/dev/null`: the launcher's own
+/// processes that stay behind (the namespace's parent and init) hold none
+/// of the case's pipes, so the grader sees them close with the child.
+fn let_go_of_pipes() {
+    // SAFETY: plain system calls on our own descriptor table.
+    unsafe {
+        let null = libc::open(c"/dev/null".as_ptr(), libc::O_RDWR);
+        for fd in [0, 1, 2, REQUEST_FD] {
+            libc::dup2(null, fd);
+        }
+        if null > REQUEST_FD {
+            libc::close(null);
+        }
+    }
+}
+
+/// Enters a new PID namespace for the processes this one starts: as root
+/// directly, otherwise inside a user namespace of its own that maps only
+/// this user (an unprivileged user namespace, where the kernel allows
+/// them). `false` where neither can be had: the grader's sweep of
+/// orphans is then the only catch.
+#[cfg(target_os = "linux")]
+fn enter_pid_namespace() -> Result<bool, String> {
+    use std::ffi::CString;
+    // SAFETY: plain system calls; the launcher has one thread.
+    let (uid, gid) = unsafe {
+        if libc::unshare(libc::CLONE_NEWPID) == 0 {
+            return Ok(true);
+        }
+        (libc::getuid(), libc::getgid())
+    };
+    // Root that may not make a PID namespace (some containers) would map
+    // only itself in a user namespace, where `nobody` does not exist: it
+    // keeps the sweep instead.
+    if uid == 0 {
+        return Ok(false);
+    }
+    // Only this user and group, as themselves: never root inside.
+    let maps: Vec<(CString, CString)> = [
+        ("setgroups", "deny".to_string()),
+        ("uid_map", format!("{uid} {uid} 1\n")),
+        ("gid_map", format!("{gid} {gid} 1\n")),
+    ]
+    .into_iter()
+    .map(|(file, text)| {
+        let path = CString::new(format!("/proc/self/{file}")).unwrap_or_default();
+        (path, CString::new(text).unwrap_or_default())
+    })
+    .collect();
+    // System calls only: also run in a forked process.
+    let write_maps = || {
+        maps.iter().all(|(path, text)| {
+            // SAFETY: plain system calls on C strings we own.
+            unsafe {
+                let fd = libc::open(path.as_ptr(), libc::O_WRONLY | libc::O_CLOEXEC);
+                let len = text.as_bytes().len();
+                let ok = fd >= 0 && libc::write(fd, text.as_ptr().cast(), len) == len as isize;
+                if fd >= 0 {
+                    libc::close(fd);
+                }
+                ok
+            }
+        })
+    };
+    let flags = libc::CLONE_NEWUSER | libc::CLONE_NEWPID;
+    // Tried first in a throwaway process: where the kernel lets a user
+    // namespace be made but not mapped (Ubuntu's AppArmor restriction), the
+    // launcher itself must not be left in one.
+    let probe = fork()?;
+    if probe == 0 {
+        // SAFETY: plain system calls; this process ends here.
+        unsafe {
+            let ok = libc::unshare(flags) == 0 && write_maps();
+            libc::_exit(if ok { 0 } else { 1 });
+        }
+    }
+    if wait_for(probe) != Some(0) {
+        return Ok(false);
+    }
+    // SAFETY: a plain system call; the launcher has one thread.
+    if unsafe { libc::unshare(flags) } != 0 || !write_maps() {
+        return Err(os_error("cannot map its user in a user namespace"));
+    }
+    Ok(true)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn enter_pid_namespace() -> Result<bool, String> {
+    Ok(false)
+}
+
+#[cfg(target_os = "linux")]
+fn fork() -> Result<libc::pid_t, String> {
+    // SAFETY: the launcher has one thread; both sides go on with plain
+    // system calls and its own code.
+    match unsafe { libc::fork() } {
+        -1 => Err(os_error("fork")),
+        pid => Ok(pid),
+    }
+}
+
+#[cfg(target_os = "linux")]
+/// Waits for `pid` (retrying on interruption) and returns its wait status.
+fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
+    let mut status = 0;
+    loop {
+        // SAFETY: waits for our own child, into our own int.
+        let r = unsafe { libc::waitpid(pid, &mut status, 0) };
+        if r == pid {
+            return Some(status);
+        }
+        if r < 0 && std::io::Error::last_os_error().raw_os_error() != Some(libc::EINTR) {
+            return None;
+        }
+    }
+}
+
+#[cfg(target_os = "linux")]
+/// Ends this process the way `status` says another ended: the same exit
+/// code, or the same signal (no core file: the limit is 0).
+fn end_like(status: libc::c_int) -> ! {
+    // SAFETY: plain system calls; the process ends here.
+    unsafe {
+        if libc::WIFSIGNALED(status) {
+            let sig = libc::WTERMSIG(status);
+            let none = libc::rlimit {
+                rlim_cur: 0,
+                rlim_max: 0,
+            };
+            libc::setrlimit(libc::RLIMIT_CORE, &none);
+            libc::signal(sig, libc::SIG_DFL);
+            let mut set: libc::sigset_t = std::mem::zeroed();
+            libc::sigemptyset(&mut set);
+            libc::sigaddset(&mut set, sig);
+            libc::sigprocmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+            libc::kill(libc::getpid(), sig);
+            libc::_exit(128 + sig);
+        }
+        libc::_exit(libc::WEXITSTATUS(status))
+    }
+}
+
+/// In a new PID namespace, splits the launcher in three: this process
+/// (outside) waits and ends as the child ended; its child, the
+/// namespace's init (grader code only), waits for the case's child and
+/// passes its status back; when init ends, the kernel kills whatever is
+/// left in the namespace. Returns only in the case's child, which goes on
+/// to lock itself in. (The case's child is not init itself: a PID 1
+/// ignores the signals it sends itself, so an `abort` would show as
+/// something else.)
+#[cfg(target_os = "linux")]
+fn split_for_namespace() -> Result<(), String> {
+    let pipe = || -> Result<[i32; 2], String> {
+        let mut fds = [0; 2];
+        // SAFETY: fills our own array.
+        if unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) } != 0 {
+            return Err(os_error("pipe"));
+        }
+        Ok(fds)
+    };
+    // The child's status, init to launcher; and the launcher's liveness,
+    // which init checks once its parent-death signal is set.
+    let [status_r, status_w] = pipe()?;
+    let [alive_r, alive_w] = pipe()?;
+    let init = fork()?;
+    if init > 0 {
+        // SAFETY: plain system calls on our own descriptors.
+        unsafe {
+            libc::close(status_w);
+            libc::close(alive_r);
+        }
+        let_go_of_pipes();
+        let waited = wait_for(init);
+        let mut status: libc::c_int = 0;
+        // SAFETY: reads into our own int.
+        let n = unsafe {
+            libc::read(
+                status_r,
+                (&mut status as *mut libc::c_int).cast(),
+                std::mem::size_of::<libc::c_int>(),
+            )
+        };
+        if n == std::mem::size_of::<libc::c_int>() as isize {
+            end_like(status);
+        }
+        // Init itself died (killed with the group): end the same way.
+        end_like(waited.unwrap_or(libc::SIGKILL));
+    }
+    // Init (PID 1 of the namespace).
+    // SAFETY: plain system calls on our own descriptors.
+    unsafe {
+        libc::close(status_r);
+        libc::close(alive_w);
+        die_with_parent();
+        let mut poll = libc::pollfd {
+            fd: alive_r,
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        if libc::poll(&mut poll, 1, 0) != 0 {
+            return Err("the grader is gone".into());
+        }
+        libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
+    }
+    let child = fork()?;
+    if child == 0 {
+        // SAFETY: closes our own descriptors.
+        unsafe {
+            libc::close(status_w);
+            libc::close(alive_r);
+        }
+        return Ok(());
+    }
+    let_go_of_pipes();
+    let status = wait_for(child).unwrap_or(libc::SIGKILL);
+    // SAFETY: writes our own int; then the namespace ends with us.
+    unsafe {
+        libc::write(
+            status_w,
+            (&status as *const libc::c_int).cast(),
+            std::mem::size_of::<libc::c_int>(),
+        );
+        libc::_exit(0);
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn split_for_namespace() -> Result<(), String> {
+    Ok(())
+}
+
+/// `struct __user_cap_header_struct` and `__user_cap_data_struct`.
+#[cfg(target_os = "linux")]
+#[repr(C)]
+struct CapHeader {
+    version: u32,
+    pid: i32,
+}
+
+#[cfg(target_os = "linux")]
+#[repr(C)]
+#[derive(Clone, Copy, Default)]
+struct CapData {
+    effective: u32,
+    permitted: u32,
+    inheritable: u32,
+}
+
+/// Drops every capability this process holds (a root that became `nobody`
+/// holds none already; a launcher in a user namespace holds them all
+/// there) and checks none is left.
+#[cfg(target_os = "linux")]
+fn drop_capabilities() -> Result<(), String> {
+    const VERSION_3: u32 = 0x2008_0522;
+    let mut header = CapHeader {
+        version: VERSION_3,
+        pid: 0,
+    };
+    let mut data = [CapData::default(); 2];
+    // SAFETY: the header and two data records the v3 interface expects.
+    unsafe {
+        if libc::syscall(libc::SYS_capset, &mut header, data.as_ptr()) != 0 {
+            return Err(os_error("cannot drop capabilities"));
+        }
+        header.version = VERSION_3;
+        if libc::syscall(libc::SYS_capget, &mut header, data.as_mut_ptr()) != 0 {
+            return Err(os_error("cannot read capabilities"));
+        }
+    }
+    if data
+        .iter()
+        .any(|d| d.effective | d.permitted | d.inheritable != 0)
+    {
+        return Err("still holds capabilities after dropping them all".into());
+    }
+    Ok(())
+}
+
+#[cfg(not(target_os = "linux"))]
+fn drop_capabilities() -> Result<(), String> {
+    Ok(())
+}
+
 /// Locks this process in and `exec`s the child. Returns only on failure.
 fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     use std::io::Write;
     use std::os::fd::AsRawFd;
-    // Opened while still privileged, and executed by descriptor: a child
-    // program in a folder `nobody` cannot enter (a root's home) still runs
-    // as `nobody`. Close-on-exec, so the child does not hold it.
-    let program = match std::fs::File::open(child) {
-        Ok(f) => f,
-        Err(e) => return format!("cannot open {}: {e}", child.display()),
+    let early = || -> Result<(std::fs::File, bool), String> {
+        move_request()?;
+        own_session()?;
+        if die_with_parent() {
+            return Err("the grader is gone".into());
+        }
+        // Opened while still privileged, and executed by descriptor: a
+        // child program in a folder `nobody` cannot enter (a root's home)
+        // still runs as `nobody`. Close-on-exec, so the child does not
+        // hold it.
+        let program = std::fs::File::open(child)
+            .map_err(|e| format!("cannot open {}: {e}", child.display()))?;
+        let namespace = limits.pid_namespace && enter_pid_namespace()?;
+        // SAFETY: a plain prctl call. Grader code only here, but its memory
+        // is nobody's business either. (After the user namespace's maps:
+        // a process that is not dumpable cannot write its own.)
+        #[cfg(target_os = "linux")]
+        unsafe {
+            libc::prctl(libc::PR_SET_DUMPABLE, 0, 0, 0, 0);
+        }
+        if namespace {
+            split_for_namespace()?;
+        }
+        Ok((program, namespace))
+    };
+    let (program, namespace) = match early() {
+        Ok(p) => p,
+        Err(e) => return e,
     };
     let setup = || -> Result<String, String> {
         set_limit(libc::RLIMIT_AS, limits.memory)?;
         set_limit(libc::RLIMIT_FSIZE, 0)?;
         set_limit(libc::RLIMIT_CORE, 0)?;
         let dropped = limits.drop_user && drop_privileges()?;
+        // SAFETY: plain system calls.
+        if unsafe { libc::geteuid() == 0 || libc::getuid() == 0 } {
+            return Err(
+                "student code never runs as root, and this launcher was not \
+                        asked to drop to nobody"
+                    .into(),
+            );
+        }
         if dropped {
             // Binds only a user other than root: caps a fork bomb.
             set_limit(libc::RLIMIT_NPROC, 512)?;
         }
-        // SAFETY: plain prctl calls. Set after dropping privileges, which
-        // clears the parent-death signal.
-        #[cfg(target_os = "linux")]
-        unsafe {
-            libc::prctl(
-                libc::PR_SET_PDEATHSIG,
-                libc::SIGKILL as libc::c_ulong,
-                0,
-                0,
-                0,
-            );
-            if libc::getppid() == 1 {
-                return Err("the grader is gone".into());
-            }
+        drop_capabilities()?;
+        // Set after dropping privileges, which clears the parent-death
+        // signal. In a namespace the parent is its init (PID 1), whose end
+        // ends the namespace anyway.
+        if die_with_parent() && !namespace {
+            return Err("the grader is gone".into());
         }
         let abi = if limits.landlock {
             landlock(&program)?
         } else {
             0
         };
-        let filtered = crate::seccomp::apply()?;
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
+        let filtered = crate::seccomp::apply()?;
         Ok(format!(
-            "landlock={abi} memory={} user={} group=own seccomp={}",
+            "landlock={abi} memory={} user={} group=own session=own pidns={} caps=0 seccomp={}",
             limits.memory,
             if dropped { "nobody" } else { "same" },
+            u8::from(namespace),
             u8::from(filtered)
         ))
     };
@@ -305,13 +699,19 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     }
     let _ = std::io::stdout().flush();
     // Descriptors the grader itself inherited without close-on-exec (from
-    // whatever started it) must not reach the child: only 0, 1 and 2 do.
-    // (Marked close-on-exec rather than closed: `program` is needed to exec.)
+    // whatever started it) must not reach the child: only 0, 1, 2 and the
+    // request do. (Marked close-on-exec rather than closed: `program` is
+    // needed to exec.)
     // SAFETY: a plain system call on our own descriptor table.
     #[cfg(target_os = "linux")]
     unsafe {
         const CLOSE_RANGE_CLOEXEC: u32 = 1 << 2;
-        libc::syscall(libc::SYS_close_range, 3u32, u32::MAX, CLOSE_RANGE_CLOEXEC);
+        libc::syscall(
+            libc::SYS_close_range,
+            REQUEST_FD as u32 + 1,
+            u32::MAX,
+            CLOSE_RANGE_CLOEXEC,
+        );
     }
     let cstr = |s: &std::ffi::OsStr| {
         use std::os::unix::ffi::OsStrExt;
@@ -362,15 +762,38 @@ pub fn describe_status(status: &str) -> String {
         .parse::<u64>()
         .map(|m| format!("memory cap {}", format_bytes(m)))
         .unwrap_or_else(|_| "memory cap unknown".into());
+    let session = match field("session") {
+        "own" => ", own session (no terminal)",
+        _ => "",
+    };
+    let pids = match field("pidns") {
+        "1" => ", own PID namespace (nothing outlives the case)",
+        _ => ", orphans swept (no PID namespace here)",
+    };
     let user = match field("user") {
         "nobody" => ", user nobody",
         _ => "",
     };
+    let caps = match field("caps") {
+        "0" => ", no capabilities",
+        _ => "",
+    };
     let filter = match field("seccomp") {
-        "1" => ", seccomp (no new processes, no sockets, no IPC)",
+        "1" => {
+            ", seccomp (no new processes, no sockets, no IPC, no reaching other processes, \
+             no terminal input, no file watches)"
+        }
         _ => ", no seccomp filter",
     };
-    format!("protections: {landlock}, {memory}, own process group{user}{filter}")
+    let grader = if crate::runner::grader_not_dumpable() {
+        ", grader not dumpable"
+    } else {
+        ""
+    };
+    format!(
+        "protections: {landlock}, {memory}, own process group{session}{pids}{user}{caps}\
+         {filter}{grader}"
+    )
 }
 
 #[cfg(test)]
@@ -386,15 +809,30 @@ mod tests {
 
     #[test]
     fn the_status_line_names_each_protection() {
-        let line = describe_status("landlock=6 memory=2147483648 user=nobody group=own seccomp=1");
+        let line = describe_status(
+            "landlock=6 memory=2147483648 user=nobody group=own session=own pidns=1 caps=0 seccomp=1",
+        );
+        let grader = if crate::runner::grader_not_dumpable() {
+            ", grader not dumpable"
+        } else {
+            ""
+        };
         assert_eq!(
             line,
-            "protections: Landlock ABI 6 (no files, no network, no signals out), \
-             memory cap 2 GiB, own process group, user nobody, \
-             seccomp (no new processes, no sockets, no IPC)"
+            format!(
+                "protections: Landlock ABI 6 (no files, no network, no signals out), \
+                 memory cap 2 GiB, own process group, own session (no terminal), \
+                 own PID namespace (nothing outlives the case), user nobody, no capabilities, \
+                 seccomp (no new processes, no sockets, no IPC, no reaching other processes, \
+                 no terminal input, no file watches){grader}"
+            )
         );
-        let off = describe_status("landlock=0 memory=1073741824 user=same group=own");
+        let off = describe_status("landlock=0 memory=1073741824 user=same group=own pidns=0");
         assert!(off.contains("Landlock off"), "{off}");
+        assert!(
+            off.contains("orphans swept (no PID namespace here)"),
+            "{off}"
+        );
         assert!(!off.contains("nobody"), "{off}");
     }
 
@@ -404,6 +842,7 @@ mod tests {
             memory: 123,
             drop_user: false,
             landlock: false,
+            pid_namespace: false,
         };
         let args = launcher_args(&limits, Path::new("/x/child"), &["a".into()]);
         let (l, c, rest) = parse_launch(&args[1..]).unwrap();

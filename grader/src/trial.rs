@@ -146,8 +146,9 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     runner::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
-        drop_user: sandbox::runnable_by_others(&program.exe),
+        drop_user: true,
         landlock: true,
+        pid_namespace: true,
     };
     let request = wire::Request {
         op,
@@ -179,9 +180,10 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     let _ = done.send(());
     let _ = ticker.join();
     let took = start.elapsed().as_secs_f64();
-    for line in raw.output.lines() {
-        println!("    | {line}");
-    }
+    print!(
+        "{}",
+        crate::quoted::Quoted::new(raw.output.clone()).block("    ")
+    );
     let ran = match raw.exit {
         Exit::Finished(ran) => ran,
         other => {
@@ -198,9 +200,13 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     };
     match child::analyze(op, &mesh, ran) {
         Outcome::Panicked { message, location } => {
-            say!(true, &format!("{function} panicked: {message}"));
+            let message = crate::quoted::Quoted::new(message);
+            say!(true, &format!("{function} panicked: {}", message.inline()));
+            if !message.fits_inline() {
+                print!("{}", message.block("        "));
+            }
             if let Some(l) = location {
-                println!("        at {l}");
+                println!("        at {}", crate::quoted::Quoted::new(l).inline());
             }
             ExitCode::from(1)
         }

@@ -616,13 +616,22 @@ fn mistake_of(
     if !(moved || relinked) {
         return None;
     }
-    m.positions = moved.then_some(ps);
+    // Stored to 1e-7, well inside any tolerance the grader matches them
+    // with (at least 1e-12 of the mesh's size, 1e-5 here): less than half
+    // the digits to write, and to parse on every grader run.
+    m.positions = moved.then(|| {
+        ps.iter()
+            .map(|p| p.map(|x| (x * 1e7).round() / 1e7))
+            .collect()
+    });
     m.edges = (relinked && !moved).then_some(edges);
     Some(m)
 }
 
-/// Mistakes that one round hides and a second round shows (stale flags,
-/// say): the right first round, then the mistake's.
+/// What each known mistake makes of two rounds: the mistake made twice,
+/// as a student's code would (stale flags show only then); one that breaks
+/// the mesh in round one is stored as round one's broken mesh, which is
+/// what the grader sees.
 fn second_round_mistakes(
     input: &Mesh,
     weights: Weights,
@@ -641,8 +650,13 @@ fn second_round_mistakes(
     for known in mutants::subdivision_mistakes() {
         let mut mesh = input.clone();
         (known.run)(&mut mesh);
-        if mistake_of(&known, &mesh, &one_round, tolerance).is_some() {
-            continue; // round one shows it already
+        // A mistake round one shows already broke the mesh there: a second
+        // round would only walk its broken links.
+        if mesh.validate().is_err() {
+            if let Some(m) = mistake_of(&known, &mesh, &one_round, tolerance) {
+                out.push(m);
+            }
+            continue;
         }
         (known.run)(&mut mesh);
         if let Some(m) = mistake_of(&known, &mesh, expected, tolerance) {

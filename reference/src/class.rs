@@ -20,6 +20,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use grader::build_sandbox::Outcome;
+use grader::quoted::{self, Quoted};
 
 use crate::handout::{self, Purpose};
 
@@ -32,6 +33,9 @@ const FUNCTIONS: [(&str, &str); 3] = [
 
 /// Folders of an upload that never hold the student's file.
 const SKIP_DIRS: [&str; 3] = ["target", ".git", "__MACOSX"];
+/// Seconds of a submission's budget kept from the grader's own (for its
+/// start and end): the deadline that kills it is the whole budget.
+const GRADER_MARGIN: f64 = 2.0;
 /// Crates of the lab other than the student's: their `lib.rs` is never taken.
 const OTHER_CRATES: [&str; 4] = ["halfedge", "grader", "reference", "crates"];
 
@@ -475,11 +479,17 @@ fn compiler_text(stderr: &str) -> String {
         .to_string()
 }
 
-fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n']) {
-        format!("\"{}\"", text.replace('"', "\"\"").replace('\n', " "))
-    } else {
-        text.to_string()
+/// Text of the student's making (a compiler's errors quote their code, a
+/// reason may name their files) as shown in reports: its first line on one
+/// line, the rest under `| `, control characters escaped.
+fn shown(why: &str) -> String {
+    match why.split_once('\n') {
+        Some((head, rest)) => format!(
+            "{}\n{}",
+            quoted::one_line(head),
+            Quoted::new(rest.trim_start_matches('\n')).block("")
+        ),
+        None => quoted::one_line(why),
     }
 }
 
@@ -648,7 +658,7 @@ pub fn grade_class(
             eprintln!(
                 "[{done:>3}/{}] {:<20} {:>5}/{:<3} {:<16} {:>5.1} s  (about {:.0} s left)",
                 students.len(),
-                row.name,
+                quoted::one_line(&row.name),
                 row.score,
                 row.max,
                 row.status,
@@ -666,14 +676,14 @@ pub fn grade_class(
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{},{}",
-            csv_field(&r.name),
+            quoted::csv_field(&r.name),
             r.score,
             r.max,
             r.status,
             f(0),
             f(1),
             f(2),
-            csv_field(&r.first_failure)
+            quoted::csv_field(&r.first_failure)
         );
     }
     std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
@@ -716,12 +726,16 @@ fn grade_one(
             .or_else(|| why.lines().next())
             .unwrap_or("")
             .to_string();
+        let why = shown(why);
         write(
             "txt",
-            &format!("{}: {status} (0 of {max})\n\n{why}\n", s.name),
+            &format!(
+                "{}: {status} (0 of {max})\n\n{why}\n",
+                quoted::one_line(&s.name)
+            ),
         )?;
-        write("log", log)?;
-        write("results.json", &zero_results(why, max))
+        write("log", &shown(log))?;
+        write("results.json", &zero_results(&why, max))
     };
     let lib_rs = match &s.lib_rs {
         Ok(p) => p,
@@ -780,8 +794,13 @@ fn grade_one(
 
     let results = logs.join("results.json");
     let mut grade = Command::new(exe);
+    // The grader counts its child runs (a passing case runs once per
+    // labelling) and shortens the per-call limit so that all of them fit
+    // in the budget; the deadline below only stops what ignores limits.
+    let grading_budget = (options.budget - GRADER_MARGIN).max(0.1);
     grade
         .args(["--no-color", "--timeout", &options.timeout.to_string()])
+        .args(["--budget", &format!("{grading_budget:.2}")])
         .arg("--fixtures")
         .arg(fixtures)
         .args(["--format", "json", "--gradescope"])
@@ -835,8 +854,21 @@ fn grade_one(
     if let Some(line) = &fresh_line {
         let _ = writeln!(full, "{line}\n");
     }
+    let plan = &report["plan"];
+    if let (Some(limit), Some(runs)) = (plan["timeout"].as_f64(), plan["runs"].as_u64()) {
+        let _ = writeln!(
+            full,
+            "time: each call may take {limit} s ({runs} runs, {} side by side, in a budget of {} s)\n",
+            plan["workers"].as_u64().unwrap_or(1),
+            plan["budget"].as_f64().unwrap_or(options.budget)
+        );
+    }
     if !compiler.is_empty() {
-        let _ = writeln!(full, "compiler output:\n{compiler}\n");
+        let _ = writeln!(
+            full,
+            "compiler output:\n{}",
+            Quoted::new(&*compiler).block("")
+        );
     }
     let mut counted = [(0, 0); 3];
     let mut failures = Vec::new();
@@ -851,22 +883,29 @@ fn grade_one(
             c["stage"].as_str().unwrap_or("?"),
             if passed { "passed" } else { "FAILED" }
         );
+        // Student text comes as lists of lines; shown the grader's way.
+        let lines_of = |v: &serde_json::Value| -> Option<Quoted> {
+            let lines = v.as_array()?;
+            let text: Vec<&str> = lines.iter().filter_map(|l| l.as_str()).collect();
+            Some(Quoted::new(text.join("\n")))
+        };
         for e in c["entries"].as_array().into_iter().flatten() {
             let level = e["level"].as_str().unwrap_or("info");
-            let text = e["text"].as_str().unwrap_or("");
+            let text = quoted::one_line(e["text"].as_str().unwrap_or(""));
+            let quote = lines_of(&e["quote"]);
+            let (line, below) = quoted::quoting(&text, quote.as_ref(), "        ");
             match level {
                 "detail" => {
-                    let _ = writeln!(full, "        {text}");
+                    let _ = writeln!(full, "        {line}");
                 }
                 _ => {
-                    let _ = writeln!(full, "[{level}] {text}");
+                    let _ = writeln!(full, "[{}] {line}", quoted::one_line(level));
                 }
             }
+            full.push_str(&below);
         }
-        if let Some(printed) = c["output"].as_str().filter(|o| !o.trim().is_empty()) {
-            for l in printed.trim_end().lines() {
-                let _ = writeln!(full, "    | {l}");
-            }
+        if let Some(printed) = lines_of(&c["output"]).filter(|o| !o.is_blank()) {
+            full.push_str(&printed.block("    "));
         }
         if !is_counted {
             continue;
@@ -879,14 +918,8 @@ fn grade_one(
             }
         }
         if !passed {
-            let first = c["entries"]
-                .as_array()
-                .into_iter()
-                .flatten()
-                .find(|e| e["level"] == "warn")
-                .and_then(|e| e["text"].as_str())
-                .unwrap_or("failed");
-            failures.push(format!("{name}: {first}"));
+            let first = c["first_warning"].as_str().unwrap_or("failed");
+            failures.push(quoted::one_line(&format!("{name}: {first}")));
         }
     }
     let passed: usize = counted.iter().map(|c| c.0).sum();
@@ -897,7 +930,11 @@ fn grade_one(
     row.status = if passed == total { "passed" } else { "failed" }.into();
     row.first_failure = failures.first().cloned().unwrap_or_default();
 
-    let mut short = format!("{}: {} ({passed} of {total})\n", s.name, row.status);
+    let mut short = format!(
+        "{}: {} ({passed} of {total})\n",
+        quoted::one_line(&s.name),
+        row.status
+    );
     for (k, (_, function)) in FUNCTIONS.iter().enumerate() {
         let _ = writeln!(short, "  {function:<15} {}/{}", counted[k].0, counted[k].1);
     }

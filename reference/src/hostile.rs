@@ -435,58 +435,74 @@ pub fn inherited_fd(mesh: &mut Mesh) {
     crate::mutants::no_flip(mesh);
 }
 
-/// Reaches for the grader: SIGKILL to it and to its process group,
-/// ptrace, its memory through `process_vm_readv` and `/proc/PID/mem`. Then makes the no-flip mistake (seen only if the grader
-/// survived). Run it only where Landlock scopes signals (ABI 6 or later)
-/// or as root (the child is then `nobody`): elsewhere it kills the grader
-/// and its job, as it is meant to show.
+/// Reaches for the grader (found as [`grader_pid`] finds it): SIGKILL to
+/// it and to its process group, ptrace, its memory through
+/// `process_vm_readv` and `/proc/PID/mem`, SIGIO by `F_SETOWN`. Then makes
+/// the no-flip mistake (seen only if the grader survived). Without the
+/// seccomp filter's signal rules or a PID namespace, where Landlock does
+/// not scope signals (before ABI 6) and the child is the grader's user, it
+/// kills the grader and its job, as it is meant to show.
 pub fn reach_parent(mesh: &mut Mesh) {
-    let ok = sys_result;
-    // SAFETY: plain system calls; the buffer read into is our own.
+    // SAFETY: plain system calls; the buffers read into are our own.
     unsafe {
-        let ppid = libc::getppid();
         report(
             "SIGKILL the grader",
-            ok(libc::kill(ppid, libc::SIGKILL) as libc::c_long),
+            on_grader(|p| libc::kill(p, libc::SIGKILL).into()),
         );
-        let pgid = libc::getpgid(ppid);
         report(
             "SIGKILL the grader's process group",
-            if pgid > 0 {
-                ok(libc::kill(-pgid, libc::SIGKILL) as libc::c_long)
-            } else {
-                Err(std::io::Error::last_os_error())
-            },
+            on_grader(|p| match libc::getpgid(p) {
+                g if g > 0 => libc::kill(-g, libc::SIGKILL).into(),
+                _ => -1,
+            }),
         );
         report(
             "ptrace the grader",
-            ok(libc::ptrace(libc::PTRACE_ATTACH, ppid, 0, 0)),
+            on_grader(|p| libc::ptrace(libc::PTRACE_ATTACH, p, 0, 0)),
         );
         let mut buf = [0u8; 64];
         let local = libc::iovec {
             iov_base: buf.as_mut_ptr().cast(),
             iov_len: buf.len(),
         };
-        // The start of the grader's program, read from its own memory map
-        // would need /proc/PID/maps: any address answers whether reading
-        // is allowed at all (EPERM) or only this one is unmapped (EFAULT).
+        // Any address answers whether reading is allowed at all (EPERM)
+        // or only this one is unmapped (EFAULT).
         let remote = libc::iovec {
             iov_base: 0x1000 as *mut libc::c_void,
             iov_len: buf.len(),
         };
-        let r = libc::process_vm_readv(ppid, &local, 1, &remote, 1, 0);
-        let err = std::io::Error::last_os_error();
         report(
             "read the grader's memory",
-            if r >= 0 || err.raw_os_error() == Some(libc::EFAULT) {
-                Ok(())
-            } else {
-                Err(err)
-            },
+            on_grader(|p| {
+                let r = libc::process_vm_readv(p, &local, 1, &remote, 1, 0);
+                let fault = std::io::Error::last_os_error().raw_os_error() == Some(libc::EFAULT);
+                if r >= 0 || fault {
+                    0
+                } else {
+                    -1
+                }
+            }),
         );
         report(
             "open the grader's /proc/PID/mem",
-            std::fs::File::open(format!("/proc/{ppid}/mem")).map(drop),
+            match grader_pid() {
+                Some(p) => std::fs::File::open(format!("/proc/{p}/mem")).map(drop),
+                None => Err(std::io::Error::from_raw_os_error(libc::ESRCH)),
+            },
+        );
+        // SIGIO, whose default action ends a process, sent by the kernel
+        // to a descriptor's owner when it becomes readable.
+        let mut fds = [0; 2];
+        report(
+            "make the grader the owner of a descriptor (F_SETOWN)",
+            if libc::pipe(fds.as_mut_ptr()) == 0 {
+                let r = on_grader(|p| libc::fcntl(fds[0], libc::F_SETOWN, p).into());
+                libc::close(fds[0]);
+                libc::close(fds[1]);
+                r
+            } else {
+                Err(std::io::Error::last_os_error())
+            },
         );
     }
     let _ = std::io::stdout().flush();
@@ -681,10 +697,28 @@ pub fn huge_mesh(mesh: &mut Mesh) {
     *mesh = Mesh::from_records(v, e, f, halfedges);
 }
 
-/// Uses whatever privileges the child kept: reports its user, lifts its
+/// Uses whatever privileges the child kept: reports whether it holds a
+/// capability (effective or permitted) and its user, lifts its
 /// own memory cap (which only `CAP_SYS_RESOURCE` may do), then touches
 /// 400 MiB and subdivides correctly.
 pub fn root_powers(mesh: &mut Mesh) {
+    let caps = std::fs::read_to_string("/proc/self/status").map(|status| {
+        status
+            .lines()
+            .filter_map(|l| {
+                l.strip_prefix("CapEff:")
+                    .or_else(|| l.strip_prefix("CapPrm:"))
+            })
+            .any(|v| u64::from_str_radix(v.trim(), 16).is_ok_and(|c| c != 0))
+    });
+    report(
+        "hold a capability",
+        match caps {
+            Ok(true) => Ok(()),
+            Ok(false) => Err(std::io::Error::other("none held")),
+            Err(e) => Err(e),
+        },
+    );
     // SAFETY: plain system calls on a struct we own.
     unsafe {
         println!("attack: running as user {}", libc::geteuid());
@@ -717,4 +751,524 @@ pub fn fake_sandbox_failure(mesh: &mut Mesh) {
     let _ = mesh;
     eprintln!("grader sandbox: Landlock: this kernel refused the ruleset (tell your TA)");
     std::process::exit(grader::sandbox::LAUNCH_FAILED);
+}
+
+/// The grader's summary and verdict as a passing run prints them.
+pub const FORGED_LINES: &str = "report.rs:148 [info] lab cases passed: flip_edge 10/10, split_edge 6/6, loop_subdivide 9/9\nreport.rs:262 [info] all tests passed, congratulations!";
+
+/// Prints the grader's summary and verdict, then panics with a message
+/// that holds them too, after a newline: lines that would look like the
+/// grader's own, in the case, the summary and every report.
+pub fn forged_lines(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    println!("\n{FORGED_LINES}");
+    let _ = (mesh, e);
+    panic!("index out of bounds\n{FORGED_LINES}\n");
+}
+
+/// Terminal control sequences: clear the screen, move the cursor home,
+/// conceal text, set the window title and a hyperlink (OSC), the 8-bit
+/// CSI, a bare CR that returns to the start of the line to overwrite it.
+pub const ESCAPES: &str = "\x1b[2J\x1b[Hcleared\x1b[8mhidden\x1b[0m\x1b]0;pwned\x07\x1b]8;;http://example.invalid/\x1b\\link\x1b]8;;\x1b\\\u{9b}2J\rgrade.rs:1 [info] all tests passed, congratulations!";
+
+/// Prints [`ESCAPES`] and panics with them (and a CR-separated forged
+/// line) in its message.
+pub fn escapes(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    println!("{ESCAPES}");
+    eprintln!("\x1b[31mred\x1b[0m\rgrade.rs:1 [info] over it\r");
+    let _ = (mesh, e);
+    panic!("bad edge{ESCAPES}");
+}
+
+// ---------------------------------------------------------------------
+// Attacks around the case (issue 16): outliving it, reaching other
+// processes, the terminal, file watches.
+// ---------------------------------------------------------------------
+
+/// The parent of `pid` ("self" or a number), read from `/proc/PID/stat`:
+/// numbered as `/proc` numbers it, which is the grader's numbering even
+/// inside a PID namespace of its own.
+fn ppid_of(pid: &str) -> Option<i32> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // "pid (comm) state ppid ...": comm may hold spaces and parens.
+    let (_, rest) = stat.rsplit_once(')')?;
+    rest.split_whitespace().nth(1)?.parse().ok()
+}
+
+/// The grader's process id, found as a student would: from `/proc` when it
+/// can be read (past the launcher's own processes, which run the grader's
+/// program with the launch flag), else `getppid()`. `None` when the parent
+/// is out of sight (`getppid()` is 0 outside one's PID namespace).
+fn grader_pid() -> Option<i32> {
+    // SAFETY: a plain system call.
+    let mut pid = ppid_of("self").unwrap_or_else(|| unsafe { libc::getppid() });
+    for _ in 0..3 {
+        let is_launcher = std::fs::read(format!("/proc/{pid}/cmdline")).is_ok_and(|raw| {
+            raw.split(|&b| b == 0)
+                .any(|a| a == grader::sandbox::LAUNCH_ARG.as_bytes())
+        });
+        if !is_launcher {
+            break;
+        }
+        pid = ppid_of(&pid.to_string())?;
+    }
+    (pid > 0).then_some(pid)
+}
+
+/// Runs `f` on the grader's pid, or fails as a call on a process out of
+/// sight would (`ESRCH`).
+fn on_grader(f: impl FnOnce(i32) -> libc::c_long) -> std::io::Result<()> {
+    match grader_pid() {
+        Some(pid) => sys_result(f(pid)),
+        None => Err(std::io::Error::from_raw_os_error(libc::ESRCH)),
+    }
+}
+
+/// The name the `outlive-grader` attack gives itself once it is ready to
+/// outlive the grader (a test waits for it in `/proc/PID/comm`).
+pub const OUTLIVE_NAME: &str = "meshlab-outlive";
+/// How long the `outlive-grader` attack waits before it makes its mistake.
+pub const OUTLIVE_SECONDS: u64 = 60;
+
+/// Clears its parent-death signal, so that killing the grader does not
+/// kill it, renames itself [`OUTLIVE_NAME`], then waits a minute inside the
+/// call (the test kills the grader meanwhile) and makes the no-flip
+/// mistake.
+pub fn outlive_grader(mesh: &mut Mesh) {
+    // SAFETY: plain prctl calls with integer or string arguments.
+    unsafe {
+        report(
+            "clear the parent-death signal",
+            sys_result(libc::prctl(libc::PR_SET_PDEATHSIG, 0, 0, 0, 0).into()),
+        );
+        report(
+            "become a subreaper",
+            sys_result(libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0).into()),
+        );
+        let name = std::ffi::CString::new(OUTLIVE_NAME).unwrap_or_default();
+        libc::prctl(libc::PR_SET_NAME, name.as_ptr(), 0, 0, 0);
+    }
+    let _ = std::io::stdout().flush();
+    std::thread::sleep(Duration::from_secs(OUTLIVE_SECONDS));
+    crate::mutants::no_flip(mesh);
+}
+
+/// Tries every prctl option that would undo a protection: the parent-death
+/// signal, dumpable (opens `/proc/PID/mem` to the same user), a ptracer,
+/// keeping capabilities, the subreaper flag, a new name for its own use
+/// (allowed: the runtime names threads). Then makes the no-flip mistake.
+pub fn prctl_undo(mesh: &mut Mesh) {
+    // SAFETY: plain prctl calls with integer or string arguments.
+    unsafe {
+        let ok = |r: libc::c_int| sys_result(r.into());
+        report(
+            "clear the parent-death signal",
+            ok(libc::prctl(libc::PR_SET_PDEATHSIG, 0, 0, 0, 0)),
+        );
+        report(
+            "make itself dumpable",
+            ok(libc::prctl(libc::PR_SET_DUMPABLE, 1, 0, 0, 0)),
+        );
+        report(
+            "let any process trace it",
+            ok(libc::prctl(
+                libc::PR_SET_PTRACER,
+                libc::c_ulong::MAX,
+                0,
+                0,
+                0,
+            )),
+        );
+        report(
+            "keep capabilities across a change of user",
+            ok(libc::prctl(libc::PR_SET_KEEPCAPS, 1, 0, 0, 0)),
+        );
+        report(
+            "become a subreaper",
+            ok(libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0)),
+        );
+        let name = std::ffi::CString::new("meshlab-named").unwrap_or_default();
+        report(
+            "name its thread",
+            ok(libc::prctl(libc::PR_SET_NAME, name.as_ptr(), 0, 0, 0)),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// `struct sched_attr` (the first version, 48 bytes).
+#[repr(C)]
+struct SchedAttr {
+    size: u32,
+    policy: u32,
+    flags: u64,
+    nice: i32,
+    priority: u32,
+    runtime: u64,
+    deadline: u64,
+    period: u64,
+}
+
+/// Starves the grader as the issue's attack starved later submissions:
+/// pins it to one CPU and puts it on `SCHED_IDLE` by every call that can
+/// (`sched_setattr`, `sched_setscheduler`), changes its parameters and its
+/// I/O priority. Pinning itself stays allowed. Then makes the no-flip
+/// mistake.
+pub fn starve(mesh: &mut Mesh) {
+    // SAFETY: plain system calls on structs we own.
+    unsafe {
+        // The first CPU it may run on (not always CPU 0 in a container).
+        let size = std::mem::size_of::<libc::cpu_set_t>();
+        let mut mine: libc::cpu_set_t = std::mem::zeroed();
+        libc::sched_getaffinity(0, size, &mut mine);
+        let first = (0..libc::CPU_SETSIZE as usize)
+            .find(|&c| libc::CPU_ISSET(c, &mine))
+            .unwrap_or(0);
+        let mut one_cpu: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(first, &mut one_cpu);
+        report(
+            "pin the grader to one CPU",
+            on_grader(|p| libc::sched_setaffinity(p, size, &one_cpu).into()),
+        );
+        let idle = SchedAttr {
+            size: std::mem::size_of::<SchedAttr>() as u32,
+            policy: libc::SCHED_IDLE as u32,
+            flags: 0,
+            nice: 0,
+            priority: 0,
+            runtime: 0,
+            deadline: 0,
+            period: 0,
+        };
+        report(
+            "put the grader on SCHED_IDLE with sched_setattr",
+            on_grader(|p| libc::syscall(libc::SYS_sched_setattr, p, &idle, 0u32)),
+        );
+        let param = libc::sched_param { sched_priority: 0 };
+        report(
+            "put the grader on SCHED_IDLE with sched_setscheduler",
+            on_grader(|p| libc::sched_setscheduler(p, libc::SCHED_IDLE, &param).into()),
+        );
+        report(
+            "change the grader's scheduling parameters",
+            on_grader(|p| libc::sched_setparam(p, &param).into()),
+        );
+        // IOPRIO_WHO_PROCESS, class IDLE.
+        report(
+            "lower the grader's I/O priority",
+            on_grader(|p| libc::syscall(libc::SYS_ioprio_set, 1, p, 3 << 13)),
+        );
+        report(
+            "pin itself to one CPU",
+            sys_result(libc::sched_setaffinity(0, size, &one_cpu).into()),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// Watches folders for changes (inotify on `/tmp`, `/etc` and the hidden
+/// fixtures, fanotify on the whole mount), which would show what other
+/// cases and the grader do. Then makes the no-flip mistake.
+pub fn watch_files(mesh: &mut Mesh) {
+    let hidden = parent_args()
+        .ok()
+        .and_then(|a| arg_after(&a, "--fixtures"))
+        .unwrap_or_else(|| format!("{}/../fixtures", env!("CARGO_MANIFEST_DIR")))
+        + "/hidden";
+    // SAFETY: plain system calls on descriptors this function owns.
+    unsafe {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let fd = libc::syscall(libc::SYS_inotify_init);
+            report("start watching files (inotify_init)", sys_result(fd));
+            if fd >= 0 {
+                libc::close(fd as i32);
+            }
+        }
+        let fd = libc::inotify_init1(libc::IN_CLOEXEC);
+        report(
+            "start watching files (inotify_init1)",
+            sys_result(fd.into()),
+        );
+        for dir in ["/tmp", "/etc", hidden.as_str()] {
+            let path = std::ffi::CString::new(dir).unwrap_or_default();
+            let r = if fd >= 0 {
+                sys_result(libc::inotify_add_watch(fd, path.as_ptr(), libc::IN_ALL_EVENTS).into())
+            } else {
+                Err(std::io::Error::from_raw_os_error(libc::EBADF))
+            };
+            let what = if dir == hidden {
+                "the hidden fixtures"
+            } else {
+                dir
+            };
+            report(&format!("watch {what}"), r);
+        }
+        if fd >= 0 {
+            libc::close(fd);
+        }
+        let fan = libc::fanotify_init(libc::FAN_CLASS_NOTIF, libc::O_RDONLY as u32);
+        report("watch the whole mount (fanotify)", sys_result(fan.into()));
+        if fan >= 0 {
+            libc::close(fan);
+        }
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// What the `terminal` attack types into the terminal.
+pub const TYPED: &str = "echo meshlab-typed-by-student\n";
+
+/// Reaches for the terminal the grader runs in: whether its stdin is
+/// anything but `/dev/null`, whether it shares the grader's session, leaving its process group, opening `/dev/tty` and
+/// typing [`TYPED`] into it with `TIOCSTI` (as root, run after the grader
+/// exits), the same through its standard descriptors, and `TIOCLINUX`.
+/// Then makes the no-flip mistake.
+pub fn terminal(mesh: &mut Mesh) {
+    report(
+        "hold something other than /dev/null on stdin",
+        match std::fs::read_link("/proc/self/fd/0") {
+            Ok(p) if p == std::path::Path::new("/dev/null") => {
+                Err(std::io::Error::other("stdin is /dev/null"))
+            }
+            Ok(_) => Ok(()),
+            Err(e) => Err(e),
+        },
+    );
+    // SAFETY: plain system calls; the bytes typed are our own.
+    unsafe {
+        let mine = libc::getsid(0);
+        report(
+            "stay in the grader's session",
+            match grader_pid() {
+                Some(p) if libc::getsid(p) == mine => Ok(()),
+                Some(p) if libc::getsid(p) < 0 => Err(std::io::Error::last_os_error()),
+                _ => Err(std::io::Error::other("a session of its own")),
+            },
+        );
+        report(
+            "leave its process group",
+            sys_result(libc::setpgid(0, 0).into()),
+        );
+        report(
+            "start a session of its own",
+            sys_result(libc::setsid().into()),
+        );
+        let type_into = |fd: i32| -> std::io::Result<()> {
+            for b in TYPED.bytes() {
+                sys_result(libc::ioctl(fd, libc::TIOCSTI, &b as *const u8).into())?;
+            }
+            Ok(())
+        };
+        let tty = libc::open(c"/dev/tty".as_ptr(), libc::O_RDWR | libc::O_NOCTTY);
+        report("open the terminal", sys_result(tty.into()));
+        report(
+            "type into the terminal",
+            if tty >= 0 {
+                type_into(tty)
+            } else {
+                Err(std::io::Error::from_raw_os_error(libc::EBADF))
+            },
+        );
+        report(
+            "type through its standard descriptors",
+            (0..3)
+                .map(type_into)
+                .find(|r| r.is_ok())
+                .unwrap_or_else(|| type_into(0)),
+        );
+        // TIOCL_GETSHIFTSTATE: harmless, but the same call pastes and
+        // blanks the console.
+        let mut sub = [6u8; 2];
+        report(
+            "reach the console (TIOCLINUX)",
+            sys_result(
+                libc::ioctl(
+                    if tty >= 0 { tty } else { 0 },
+                    libc::TIOCLINUX,
+                    sub.as_mut_ptr(),
+                )
+                .into(),
+            ),
+        );
+        if tty >= 0 {
+            libc::close(tty);
+        }
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// Opens the grader's `/proc/PID/mem` and reads its memory there: the
+/// mappings listed in `/proc/PID/maps`, searched for a case's name (the
+/// grader holds every fixture). Then makes the no-flip mistake.
+pub fn grader_memory(mesh: &mut Mesh) {
+    use std::os::unix::fs::FileExt;
+    let Some(pid) = grader_pid() else {
+        let gone = || Err(std::io::Error::from_raw_os_error(libc::ESRCH));
+        report("open the grader's /proc/PID/mem", gone());
+        report("find a case's name in the grader's memory", gone());
+        return crate::mutants::no_flip(mesh);
+    };
+    let mem = std::fs::File::open(format!("/proc/{pid}/mem"));
+    report(
+        "open the grader's /proc/PID/mem",
+        mem.as_ref()
+            .map(drop)
+            .map_err(|e| std::io::Error::from(e.kind())),
+    );
+    let found = mem.and_then(|mem| {
+        let maps = std::fs::read_to_string(format!("/proc/{pid}/maps"))?;
+        let needle = b"cube-subdivide-1";
+        let mut searched = 0usize;
+        for line in maps.lines().filter(|l| l.contains(" rw")) {
+            let Some((start, end)) = line
+                .split_whitespace()
+                .next()
+                .and_then(|r| r.split_once('-'))
+                .and_then(|(a, b)| {
+                    Some((
+                        u64::from_str_radix(a, 16).ok()?,
+                        u64::from_str_radix(b, 16).ok()?,
+                    ))
+                })
+            else {
+                continue;
+            };
+            let len = ((end - start) as usize).min(64 << 20);
+            let mut buf = vec![0u8; len];
+            if mem.read_exact_at(&mut buf, start).is_err() {
+                continue;
+            }
+            searched += len;
+            if buf.windows(needle.len()).any(|w| w == needle) {
+                return Ok(());
+            }
+            if searched > 512 << 20 {
+                break;
+            }
+        }
+        Err(std::io::Error::from(std::io::ErrorKind::NotFound))
+    });
+    report("find a case's name in the grader's memory", found);
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// Tries the other calls that reach past the case, each harmless if it
+/// got through (arguments that change nothing): a pidfd of the grader and
+/// a signal 0 through it, `kcmp` with the grader, a file handle, a mount,
+/// `personality`, `acct`, `swapon`, `reboot` with a wrong magic number,
+/// `process_vm_writev` of nothing, `perf_event_open`, `userfaultfd`, a key.
+/// Then makes the no-flip mistake.
+pub fn kernel_calls(mesh: &mut Mesh) {
+    // SAFETY: raw system calls whose pointers are null or our own buffers,
+    // with arguments that make none of them change anything.
+    unsafe {
+        let call = |nr: libc::c_long, a: [libc::c_long; 5]| {
+            sys_result(libc::syscall(nr, a[0], a[1], a[2], a[3], a[4]))
+        };
+        let pidfd = grader_pid().map_or(-1, |p| libc::syscall(libc::SYS_pidfd_open, p, 0));
+        report("open a pidfd of the grader", sys_result(pidfd));
+        report(
+            "signal the grader through a pidfd (signal 0)",
+            if pidfd >= 0 {
+                call(libc::SYS_pidfd_send_signal, [pidfd, 0, 0, 0, 0])
+            } else {
+                Err(std::io::Error::from_raw_os_error(libc::EBADF))
+            },
+        );
+        report(
+            "take a descriptor of the grader's (pidfd_getfd)",
+            if pidfd >= 0 {
+                call(libc::SYS_pidfd_getfd, [pidfd, 0, 0, 0, 0])
+            } else {
+                Err(std::io::Error::from_raw_os_error(libc::EBADF))
+            },
+        );
+        report(
+            "compare its files with the grader's (kcmp)",
+            on_grader(|p| libc::syscall(libc::SYS_kcmp, libc::getpid(), p, 0, 0, 0)),
+        );
+        let mut handle = [0u8; 136];
+        handle[..4].copy_from_slice(&128u32.to_ne_bytes());
+        let mut mount_id = 0i32;
+        report(
+            "make a file handle of /etc/passwd",
+            sys_result(libc::syscall(
+                libc::SYS_name_to_handle_at,
+                libc::AT_FDCWD,
+                c"/etc/passwd".as_ptr(),
+                handle.as_mut_ptr(),
+                &mut mount_id,
+                0,
+            )),
+        );
+        report(
+            "open by file handle",
+            call(
+                libc::SYS_open_by_handle_at,
+                [
+                    libc::AT_FDCWD as libc::c_long,
+                    handle.as_ptr() as libc::c_long,
+                    0,
+                    0,
+                    0,
+                ],
+            ),
+        );
+        report("mount", call(libc::SYS_mount, [0, 0, 0, 0, 0]));
+        // 0xffffffff only asks for the current personality.
+        report(
+            "change its personality",
+            call(libc::SYS_personality, [0xffff_ffff, 0, 0, 0, 0]),
+        );
+        report(
+            "turn process accounting",
+            call(
+                libc::SYS_acct,
+                [c"/nonexistent".as_ptr() as libc::c_long, 0, 0, 0, 0],
+            ),
+        );
+        report(
+            "add swap",
+            call(
+                libc::SYS_swapon,
+                [c"/nonexistent".as_ptr() as libc::c_long, 0, 0, 0, 0],
+            ),
+        );
+        report(
+            "reboot (a wrong magic number)",
+            call(libc::SYS_reboot, [0, 0, 0, 0, 0]),
+        );
+        report(
+            "write another process's memory (process_vm_writev of nothing)",
+            on_grader(|p| libc::syscall(libc::SYS_process_vm_writev, p, 0, 0, 0, 0, 0)),
+        );
+        report(
+            "open a performance counter",
+            call(libc::SYS_perf_event_open, [0, 0, -1, -1, 0]),
+        );
+        report(
+            "make a userfaultfd",
+            call(libc::SYS_userfaultfd, [0, 0, 0, 0, 0]),
+        );
+        report(
+            "add a key to a keyring",
+            call(
+                libc::SYS_add_key,
+                [
+                    c"user".as_ptr() as libc::c_long,
+                    c"meshlab".as_ptr() as libc::c_long,
+                    0,
+                    0,
+                    -2,
+                ],
+            ),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
 }

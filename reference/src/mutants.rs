@@ -93,6 +93,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", with(Some(flip_face_labels), None, Some(sub_flip_face_labels))),
         e("flip-boundary", "flip_edge does not refuse boundary edges (every other rule kept)", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
         e("flip-index-panic", "flip_edge indexes past the end of a Vec", with(Some(flip_index_panic), None, None)),
+        e("flip-unset-link", "flip_edge indexes the mesh with the unset link of a new halfedge", with(Some(flip_unset_link), None, None)),
         e("flip-duplicates", "flip_edge does not refuse a flip whose new edge exists already", with(Some(flip_without_duplicate_check), None, None)),
         e("flip-moves-vertex", "flip_edge relinks right but moves a vertex", with(Some(flip_moves_vertex), None, None)),
         e("split-any-face", "split_edge splits beside faces that are not triangles", with(None, Some(split_any_face), None)),
@@ -117,8 +118,18 @@ pub fn catalogue() -> Vec<Entry> {
         e("abort", "loop_subdivide aborts the process", with(None, None, Some(sub_abort))),
         e("exit", "loop_subdivide calls std::process::exit(0)", with(None, None, Some(sub_exit))),
         e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", with(None, None, Some(sub_fake_verdict))),
+        e("forged-lines", "flip_edge prints the grader's summary and verdict and panics with them after a newline", with(Some(hostile::forged_lines), None, None)),
+        e("escapes", "flip_edge prints terminal escapes (clear screen, cursor, OSC, bare CR) and panics with them", with(Some(hostile::escapes), None, None)),
         e("new-at-origin", "never gives the split vertex its new_pos", with(None, None, Some(sub_new_at_origin))),
         e("in-place", "moves old vertices while computing their new positions", with(None, None, Some(sub_in_place))),
+        e("in-place-vertices-first", "the handout's loop order, moving each vertex inside the vertex loop", with(None, None, Some(sub_in_place_vertices_first))),
+        e("swapped-edge-weights", "1/8 on the edge's ends, 3/8 on the far corners", with(None, None, Some(sub_swapped_edge_weights))),
+        e("edge-points-while-splitting", "computes each edge's point just before splitting it", with(None, None, Some(sub_edge_points_while_splitting))),
+        e("neighbour-skipped", "the walk around a vertex misses one neighbour", with(None, None, Some(sub_neighbour_skipped))),
+        e("wrong-corner", "the far corners read one step short (mesh[h.next].vertex)", with(None, None, Some(sub_wrong_corner))),
+        e("integer-u", "u = 3 / (8 * n) in integers, 0 for n other than 3", with(None, None, Some(sub_integer_u))),
+        e("flip-all-new-checked", "every new edge flipped, with a flip that refuses duplicate edges", with(None, None, Some(sub_flip_all_new_checked))),
+        e("flip-halves-checked", "all four edges at a new vertex marked new, with a flip that refuses duplicate edges", with(None, None, Some(sub_flip_halves_checked))),
         e("stale-flags", "never resets is_new at the start of a round", with(None, None, Some(sub_stale_flags))),
         e("split-returns-old", "split_edge returns an end of the edge instead of the new vertex", with(None, Some(split_returns_old), None)),
         e("split-stale-b", "split_edge never updates b's halfedge (passes on meshes as built from faces)", with(None, Some(hostile::split_stale_b), None)),
@@ -148,6 +159,13 @@ pub fn catalogue() -> Vec<Entry> {
         e("payload-drop-panics", "panics with a payload whose drop panics again", with(None, None, Some(hostile::payload_drop_panics))),
         e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
         e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
+        e("outlive-grader", "clears its parent-death signal and waits a minute in the call, to outlive a killed grader", with(None, None, Some(hostile::outlive_grader))),
+        e("prctl-undo", "tries the prctl options that undo protections (parent-death signal, dumpable, ptracer, keepcaps, subreaper), then makes the no-flip mistake", with(None, None, Some(hostile::prctl_undo))),
+        e("starve", "pins the grader to one CPU and puts it on SCHED_IDLE, then makes the no-flip mistake", with(None, None, Some(hostile::starve))),
+        e("watch-files", "watches /tmp, /etc and the hidden fixtures with inotify and fanotify, then makes the no-flip mistake", with(None, None, Some(hostile::watch_files))),
+        e("terminal", "stays in the grader's session and types a command into its terminal with TIOCSTI, then makes the no-flip mistake", with(None, None, Some(hostile::terminal))),
+        e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", with(None, None, Some(hostile::grader_memory))),
+        e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", with(None, None, Some(hostile::kernel_calls))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
         e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
@@ -175,14 +193,21 @@ pub fn subdivision_mistakes() -> Vec<KnownMistake> {
     vec![
         m("loop-weights", "the old vertices moved with Loop's original weight beta = (1/n)(5/8 - (3/8 + cos(2 pi/n)/4)^2); the lab uses u = 3/16 when n = 3, else 3/(8n)", sub_loop_weights),
         m("n3-rule", "vertices with 3 neighbours moved with u = 3/(8n) = 1/8; the lab uses u = 3/16 when n = 3", sub_n3_rule),
-        m("old-not-moved", "the old vertices did not move: each goes to (1 - n*u) * v + u * (sum of its neighbours)", sub_old_not_moved),
-        m("plain-midpoints", "the new vertices sit at edge midpoints: each goes to 3/8 * (a + b) + 1/8 * (c + d), c and d the corners facing the edge", sub_midpoints),
+        m("old-not-moved", "the old vertices did not move (or u came out 0, as 3 / (8 * n) does in integers): each goes to (1 - n*u) * v + u * (sum of its neighbours)", sub_old_not_moved),
+        m("plain-midpoints", "the new vertices sit at edge midpoints (also what the far corners read one step short give: mesh[h.next].vertex is b itself, c is mesh[mesh[h.next].next].vertex): each goes to 3/8 * (a + b) + 1/8 * (c + d), c and d the corners facing the edge", sub_midpoints),
+        m("swapped-edge-weights", "the edge rule's weights are swapped: 3/8 goes to the edge's ends a and b, 1/8 to the far corners c and d", sub_swapped_edge_weights),
+        m("edge-points-while-splitting", "the new vertices were placed while splitting, after earlier splits had put new vertices where the far corners were: compute every edge's new_pos before the first split", sub_edge_points_while_splitting),
+        m("neighbour-skipped", "the walk around each old vertex missed one neighbour (n one short, its position left out of the sum): count every neighbour once, from mesh[v].halfedge until the walk is back there", sub_neighbour_skipped),
+        m("integer-u", "u came out 0 for vertices with n other than 3, as integer division gives (3 / (8 * n) is 0): compute it in floats, 3.0 / (8.0 * n as f64)", sub_integer_u),
         m("moved-first", "the new vertices were computed from old vertices that had already moved: compute every new position before moving any vertex", sub_moved_first),
         m("no-flip", "no edge was flipped: after splitting, flip every new edge that joins an old and a new vertex", sub_no_flip),
         m("flip-all-new", "edges joining two new vertices were flipped too: flip only new edges that join an old and a new vertex", sub_flip_all_new),
         m("flip-halves", "halves of the old edges were flipped too: of the four edges at a split vertex, only the two across the old edge are new", sub_flip_halves),
         m("new-at-origin", "the new vertices ended at the origin: after split_edge, give the new vertex its edge's new_pos (mesh[m].new_pos = mesh[e].new_pos)", sub_new_at_origin),
         m("in-place", "the old vertices were moved while their new positions were still being computed: store each in new_pos and move every vertex at the end", sub_in_place),
+        m("in-place-vertices-first", "the old vertices were moved inside the vertex loop (pos = new_pos there), so later vertices and every edge point read moved positions: store each in new_pos and move every vertex only at the end", sub_in_place_vertices_first),
+        m("flip-all-new-checked", "edges joining two new vertices were flipped too (your flip refused some, which hid the broken mesh): flip only new edges that join an old and a new vertex", sub_flip_all_new_checked),
+        m("flip-halves-checked", "halves of the old edges were flipped too (all four edges at each new vertex were marked new): of the four, only the two across the old edge are new", sub_flip_halves_checked),
         m("stale-flags", "the second round went wrong: reset is_new to false on every vertex and edge at the start of each round (the new ones of the last round are old now)", sub_stale_flags),
     ]
 }
@@ -306,7 +331,6 @@ fn flip_face_labels(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     r
 }
 
-/// No checks at all: relinks as if both faces were triangles.
 /// Every rule of the contract but the boundary one: a hole shaped like a
 /// triangle passes the triangle rule.
 fn flip_boundary(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
@@ -322,6 +346,14 @@ fn flip_boundary(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     }
     solution::relink_flip(mesh, e);
     Some(e)
+}
+
+/// Reads a link a new element never got: indexing with an unset id.
+fn flip_unset_link(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let stray = mesh.new_halfedge();
+    let next = mesh[stray].next;
+    let _ = mesh[next].vertex;
+    solution::flip_edge(mesh, e)
 }
 
 #[allow(clippy::useless_vec)]
@@ -359,19 +391,21 @@ fn split_marks_new(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     Some(m)
 }
 
+/// A halfedge leaving the split vertex `m` across the old edge `a`-`b`
+/// (its far end neither `a` nor `b`).
+fn halfedge_across(mesh: &Mesh, m: VertexId, a: VertexId, b: VertexId) -> Option<HalfedgeId> {
+    mesh.vertex_halfedges(m).into_iter().find(|&h| {
+        let end = mesh.halfedge_dst(h);
+        end != a && end != b
+    })
+}
+
 /// A valid split whose edge `e` became the new edge across the first
 /// triangle instead of half of the old edge (the ids of two edges swapped).
 fn split_renames_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     let (a, b) = mesh.edge_vertices(e);
     let m = solution::split_edge(mesh, e)?;
-    let across = mesh
-        .vertex_halfedges(m)
-        .into_iter()
-        .find(|&h| {
-            let end = mesh.halfedge_dst(h);
-            end != a && end != b
-        })
-        .map(|h| mesh[h].edge)?;
+    let across = mesh[halfedge_across(mesh, m, a, b)?].edge;
     let (he, hx) = (mesh[e].halfedge, mesh[across].halfedge);
     for h in [he, mesh[he].twin] {
         mesh[h].edge = across;
@@ -394,14 +428,7 @@ fn split_third(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
 fn split_vertex_across(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     let (a, b) = mesh.edge_vertices(e);
     let m = solution::split_edge(mesh, e)?;
-    let across = mesh
-        .vertex_halfedges(m)
-        .into_iter()
-        .find(|&g| {
-            let d = mesh.halfedge_dst(g);
-            d != a && d != b
-        })
-        .expect("a split vertex has edges across");
+    let across = halfedge_across(mesh, m, a, b).expect("a split vertex has edges across");
     mesh[m].halfedge = across;
     Some(m)
 }
@@ -475,6 +502,111 @@ fn sub_midpoints(mesh: &mut Mesh) {
     after_points(mesh);
 }
 
+/// The four positions of the edge rule: the edge's ends a and b and the
+/// corners c and d facing it (`None` on a boundary edge).
+fn edge_rule_points(mesh: &Mesh, e: EdgeId) -> Option<[DVec3; 4]> {
+    if mesh.edge_on_boundary(e) {
+        return None;
+    }
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    let corner = |g: HalfedgeId| mesh[mesh[mesh[mesh[g].next].next].vertex].pos;
+    Some([
+        mesh[mesh[h].vertex].pos,
+        mesh[mesh[t].vertex].pos,
+        corner(h),
+        corner(t),
+    ])
+}
+
+/// The corners facing the edge taken as `mesh[h.next].vertex`: the edge's
+/// own ends, so the rule gives 3/8 (a + b) + 1/8 (b + a), the midpoint.
+fn sub_wrong_corner(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    for e in mesh.edge_ids() {
+        if let Some([a, b, _, _]) = edge_rule_points(mesh, e) {
+            mesh[e].new_pos = 0.375 * (a + b) + 0.125 * (b + a);
+        }
+    }
+    after_points(mesh);
+}
+
+fn sub_swapped_edge_weights(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    for e in mesh.edge_ids() {
+        if let Some([a, b, c, d]) = edge_rule_points(mesh, e) {
+            mesh[e].new_pos = 0.125 * (a + b) + 0.375 * (c + d);
+        }
+    }
+    after_points(mesh);
+}
+
+/// Each edge's point computed just before it is split, from the mesh as
+/// the earlier splits left it.
+fn sub_edge_points_while_splitting(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    let old: Vec<EdgeId> = mesh.edge_ids().collect();
+    for &e in &old {
+        if let Some([a, b, c, d]) = edge_rule_points(mesh, e) {
+            mesh[e].new_pos = 0.375 * (a + b) + 0.125 * (c + d);
+        }
+        solution::split_edges(mesh, &[e], solution::split_edge);
+    }
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::move_vertices(mesh);
+}
+
+/// The walk around a vertex starts one step late and stops at its start:
+/// one neighbour short, with n one short too.
+fn sub_neighbour_skipped(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    for v in mesh.vertex_ids() {
+        if mesh.vertex_on_boundary(v) {
+            continue;
+        }
+        let ns = mesh.vertex_neighbors(v);
+        let n = ns.len() - 1;
+        let u = Weights::Warren.neighbour_weight(n);
+        let sum: DVec3 = ns[1..].iter().map(|&w| mesh[w].pos).sum();
+        mesh[v].new_pos = (1.0 - n as f64 * u) * mesh[v].pos + u * sum;
+    }
+    solution::edge_points(mesh);
+    after_points(mesh);
+}
+
+/// `3 / (8 * n)` in integers: 0 for every n but 3 (which has its own 3/16).
+fn sub_integer_u(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    for v in mesh.vertex_ids() {
+        let n = mesh.vertex_neighbors(v).len();
+        if n != 3 && !mesh.vertex_on_boundary(v) {
+            mesh[v].new_pos = mesh[v].pos;
+        }
+    }
+    solution::edge_points(mesh);
+    after_points(mesh);
+}
+
+/// The handout's loop order, moving in place: each vertex moved inside the
+/// vertex loop, then edge points from the moved mesh.
+fn sub_in_place_vertices_first(mesh: &mut Mesh) {
+    for v in mesh.vertex_ids() {
+        let ns = mesh.vertex_neighbors(v);
+        let u = Weights::Warren.neighbour_weight(ns.len());
+        let sum: DVec3 = ns.iter().map(|&n| mesh[n].pos).sum();
+        let p = (1.0 - ns.len() as f64 * u) * mesh[v].pos + u * sum;
+        mesh[v].pos = p;
+        mesh[v].new_pos = p;
+        mesh[v].is_new = false;
+    }
+    solution::edge_points(mesh);
+    after_points(mesh);
+}
+
 fn sub_moved_first(mesh: &mut Mesh) {
     solution::vertex_points(mesh, Weights::Warren);
     solution::move_vertices(mesh);
@@ -519,7 +651,29 @@ fn flip_without_duplicate_check(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     Some(e)
 }
 
+fn sub_flip_all_new_checked(mesh: &mut Mesh) {
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    split_old(mesh, solution::split_edge);
+    for e in mesh.edge_ids() {
+        if mesh[e].is_new {
+            solution::flip_edge(mesh, e);
+        }
+    }
+    solution::move_vertices(mesh);
+}
+
+fn sub_flip_halves_checked(mesh: &mut Mesh) {
+    flip_halves_with(mesh, solution::flip_edge);
+}
+
 fn sub_flip_halves(mesh: &mut Mesh) {
+    flip_halves_with(mesh, flip_without_duplicate_check);
+}
+
+/// Every edge at a new vertex marked new (the halves of old edges too),
+/// then the old-new ones flipped with `flip`.
+fn flip_halves_with(mesh: &mut Mesh, flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>) {
     solution::vertex_points(mesh, Weights::Warren);
     solution::edge_points(mesh);
     split_old(mesh, solution::split_edge);
@@ -532,7 +686,7 @@ fn sub_flip_halves(mesh: &mut Mesh) {
         }
     }
     let all: Vec<EdgeId> = mesh.edge_ids().collect();
-    solution::flip_old_new(mesh, &all, flip_without_duplicate_check);
+    solution::flip_old_new(mesh, &all, flip);
     solution::move_vertices(mesh);
 }
 

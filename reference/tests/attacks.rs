@@ -335,8 +335,22 @@ fn code_before_main_is_stopped() {
         "{}",
         g.context()
     );
-    // 17 cases on 2 workers: well under 17 x (3 + 2) s.
-    assert!(g.took < Duration::from_secs(40), "{}", g.context());
+    // The work is bounded, not the time: only the cases already running
+    // when the first one timed out (one per worker, and one a worker may
+    // have picked up before it heard) wait out the 3 s limit; every other
+    // subdivision case, however many the fixtures hold, gets 1 s.
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let subdivisions = counted("subdivide");
+    let cut = g
+        .stdout
+        .matches("the limit was cut to 1 s because loop_subdivide already timed out")
+        .count();
+    let full = subdivisions - cut;
+    assert!(
+        (1..=2 * workers).contains(&full),
+        "{full} of {subdivisions} cases waited the whole limit: {}",
+        g.context()
+    );
 }
 
 // ---------------------------------------------------------------------
@@ -435,7 +449,8 @@ fn a_chain_of_processes_does_not_outlive_the_grader() {
     let left = survivors("process-chain");
     kill_survivors("process-chain");
     assert_eq!(left, Vec::new(), "{}", g.context());
-    assert!(g.took < Duration::from_secs(12), "{}", g.context());
+    // Not the 40 s the chain's processes would hold the pipes for.
+    assert!(g.took < Duration::from_secs(30), "{}", g.context());
     assert_no_flip_verdict(&g);
 }
 
@@ -608,4 +623,733 @@ fn student_code_cannot_pass_for_a_sandbox_failure() {
         "{}",
         g.context()
     );
+}
+
+/// Whether a line of a report is student text, shown under `| `.
+fn quoted(line: &str) -> bool {
+    line.trim_start().starts_with("| ")
+}
+
+/// Every line of `text` that is not under `| ` and holds `forged`.
+fn unquoted_with<'a>(text: &'a str, forged: &str) -> Vec<&'a str> {
+    text.lines()
+        .filter(|l| !quoted(l) && l.contains(forged))
+        .collect()
+}
+
+/// Every string in a JSON value.
+fn strings(v: &serde_json::Value, out: &mut Vec<String>) {
+    match v {
+        serde_json::Value::String(s) => out.push(s.clone()),
+        serde_json::Value::Array(a) => a.iter().for_each(|x| strings(x, out)),
+        serde_json::Value::Object(o) => o.values().for_each(|x| strings(x, out)),
+        _ => {}
+    }
+}
+
+/// A control character a terminal obeys (anything but newline and tab).
+fn has_control(text: &str) -> bool {
+    text.chars()
+        .any(|c| c.is_control() && c != '\n' && c != '\t')
+}
+
+#[test]
+fn no_line_of_the_grader_can_be_forged() {
+    let dir = scratch("forged-lines");
+    let results = dir.join("results.json");
+    let pictures = dir.join("report");
+    let args = [
+        "--stage",
+        "flip",
+        "--gradescope",
+        results.to_str().unwrap(),
+        "--report",
+        pictures.to_str().unwrap(),
+    ];
+    let g = grade("forged-lines", &args);
+    assert_eq!(g.code, 1, "{}", g.context());
+    // The terminal: the forged summary and verdict appear only under `| `,
+    // and the real verdict is the last line.
+    for forged in ["congratulations", "flip_edge 10/10"] {
+        assert_eq!(
+            unquoted_with(&g.stdout, forged),
+            Vec::<&str>::new(),
+            "{}",
+            g.context()
+        );
+    }
+    assert!(
+        g.stdout
+            .contains("        | report.rs:262 [info] all tests passed, congratulations!"),
+        "the panic message is shown, as data: {}",
+        g.context()
+    );
+    assert!(
+        g.stdout
+            .contains("    | report.rs:262 [info] all tests passed, congratulations!"),
+        "what it printed, too: {}",
+        g.context()
+    );
+    assert!(
+        g.warned("flip_edge panicked: index out of bounds (and 2 more lines, below)"),
+        "{}",
+        g.context()
+    );
+    let last = g.stdout.lines().last().unwrap_or("");
+    assert!(last.ends_with("[warn] test failed"), "{}", g.context());
+
+    // Gradescope: each test's output holds the lines only under `| `.
+    let gs: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&results).unwrap()).unwrap();
+    let tests = gs["tests"].as_array().unwrap();
+    assert!(tests.iter().all(|t| t["score"] == 0.0), "{gs}");
+    for t in tests {
+        let output = t["output"].as_str().unwrap();
+        assert!(
+            output.contains("| report.rs:262 [info] all tests passed"),
+            "{output}"
+        );
+        assert_eq!(
+            unquoted_with(output, "congratulations"),
+            Vec::<&str>::new(),
+            "{output}"
+        );
+    }
+    assert_eq!(
+        gs["output"].as_str().unwrap().lines().next(),
+        Some("test failed")
+    );
+
+    // HTML: every forged line is under `| `, inside the report's own text.
+    let html = std::fs::read_to_string(pictures.join("index.html")).unwrap();
+    let forged = "report.rs:262 [info] all tests passed, congratulations!";
+    assert!(html.matches(forged).count() > 0, "shown");
+    assert_eq!(
+        html.matches(forged).count(),
+        html.matches(&format!("| {forged}")).count(),
+        "every forged line is under `| `"
+    );
+
+    // JSON: the grader's words never hold the student's; the student's text
+    // is a list of lines.
+    let j = grade(
+        "forged-lines",
+        &["--case", "cube-flip-1", "--format", "json"],
+    );
+    let report: serde_json::Value = serde_json::from_str(&j.stdout).expect("JSON");
+    let case = &report["cases"][0];
+    for e in case["entries"].as_array().unwrap() {
+        assert!(
+            !e["text"].as_str().unwrap().contains("congratulations"),
+            "{e}"
+        );
+    }
+    let panicked = case["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["level"] == "warn")
+        .unwrap();
+    assert_eq!(panicked["text"], "flip_edge panicked:");
+    assert_eq!(
+        panicked["quote"],
+        serde_json::json!([
+            "index out of bounds",
+            "report.rs:148 [info] lab cases passed: flip_edge 10/10, split_edge 6/6, loop_subdivide 9/9",
+            "report.rs:262 [info] all tests passed, congratulations!"
+        ])
+    );
+    assert_eq!(
+        case["output"][2],
+        "report.rs:262 [info] all tests passed, congratulations!"
+    );
+    assert_eq!(
+        case["first_warning"],
+        "flip_edge panicked: index out of bounds (and 2 more lines, below)"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn escapes_and_carriage_returns_are_shown_not_obeyed() {
+    let dir = scratch("escapes");
+    let results = dir.join("results.json");
+    let pictures = dir.join("report");
+    let args = [
+        "--case",
+        "cube-flip-1",
+        "--gradescope",
+        results.to_str().unwrap(),
+        "--report",
+        pictures.to_str().unwrap(),
+    ];
+    let g = grade("escapes", &args);
+    assert_eq!(g.code, 1, "{}", g.context());
+    assert!(!has_control(&g.stdout), "{:?}", g.stdout);
+    // Shown, escaped, on lines of its own under `| `.
+    assert!(
+        g.stdout.contains(
+            "    | \\u{1b}[2J\\u{1b}[Hcleared\\u{1b}[8mhidden\\u{1b}[0m\\u{1b}]0;pwned\\u{7}"
+        ),
+        "{}",
+        g.context()
+    );
+    assert!(
+        g.stdout
+            .contains("\\u{9b}2J\\u{d}grade.rs:1 [info] all tests passed"),
+        "{}",
+        g.context()
+    );
+    // A bare CR is shown; a CR before a newline ends the line, as LF does.
+    assert!(
+        g.stdout
+            .contains("    | \\u{1b}[31mred\\u{1b}[0m\\u{d}grade.rs:1 [info] over it\n"),
+        "{}",
+        g.context()
+    );
+    assert_eq!(
+        unquoted_with(&g.stdout, "congratulations"),
+        Vec::<&str>::new()
+    );
+    assert!(
+        g.warned("flip_edge panicked: bad edge\\u{1b}[2J"),
+        "{}",
+        g.context()
+    );
+
+    let text = std::fs::read_to_string(&results).unwrap();
+    let mut all = Vec::new();
+    strings(&serde_json::from_str(&text).unwrap(), &mut all);
+    assert!(all.iter().all(|s| !has_control(s)), "{all:?}");
+    assert!(all.iter().any(|s| s.contains("| \\u{1b}[2J")), "{all:?}");
+
+    let html = std::fs::read_to_string(pictures.join("index.html")).unwrap();
+    assert!(!has_control(&html), "no control character in the HTML");
+    assert!(html.contains("| \\u{1b}[2J"), "shown escaped in the HTML");
+
+    let j = grade("escapes", &["--case", "cube-flip-1", "--format", "json"]);
+    let mut all = Vec::new();
+    strings(&serde_json::from_str(&j.stdout).expect("JSON"), &mut all);
+    assert!(all.iter().all(|s| !has_control(s)), "{all:?}");
+    assert!(all.iter().any(|s| s.starts_with("\\u{1b}[2J")), "{all:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+// ---------------------------------------------------------------------
+// Around the case (issue 16): nothing outlives it, and it reaches no
+// other process, no terminal, no file watch.
+// ---------------------------------------------------------------------
+
+/// Processes whose name (`/proc/PID/comm`) is `name`.
+fn named(name: &str) -> Vec<u32> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .flatten()
+        .filter_map(|e| {
+            let pid = e.file_name().to_string_lossy().parse::<u32>().ok()?;
+            let comm = std::fs::read_to_string(e.path().join("comm")).ok()?;
+            (comm.trim_end() == name).then_some(pid)
+        })
+        .collect()
+}
+
+/// Polls `done` every 50 ms until it holds or `limit` has passed: for
+/// waiting on the kernel, never for judging speed.
+fn wait_until(limit: Duration, mut done: impl FnMut() -> bool) -> bool {
+    let start = std::time::Instant::now();
+    while start.elapsed() < limit {
+        if done() {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    done()
+}
+
+#[test]
+fn a_case_dies_with_its_grader_even_if_it_clears_its_parent_death_signal() {
+    use std::os::unix::process::CommandExt;
+    let name = "outlive-grader";
+    kill_survivors(name);
+    // As root (the child is nobody) and as an ordinary user; in a PID
+    // namespace and, as on a machine without them, with only the
+    // parent-death signals.
+    for (as_user, namespace) in [(false, true), (true, true), (false, false), (true, false)] {
+        if as_user && !is_root() {
+            continue;
+        }
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_reference"));
+        if as_user {
+            cmd.uid(65534).gid(65534).current_dir("/");
+        }
+        let mut grader = cmd
+            .process_group(0)
+            .args(["grade", "--implementation", name, "--no-color"])
+            .args(["--case", "cube-subdivide-1", "--timeout", "120"])
+            .args(if namespace {
+                &[][..]
+            } else {
+                &["--without-pid-namespace"][..]
+            })
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        // The attack names itself once it has tried to clear the signal.
+        let ready = wait_until(Duration::from_secs(30), || {
+            !named(hostile::OUTLIVE_NAME).is_empty()
+        });
+        // SAFETY: kills the grader this test started, and only it.
+        unsafe { libc::kill(grader.id() as i32, libc::SIGKILL) };
+        grader.wait().unwrap();
+        // The kernel ends the case when the grader is gone: give it time.
+        wait_until(Duration::from_secs(10), || survivors(name).is_empty());
+        let left = survivors(name);
+        kill_survivors(name);
+        let run = format!("as user: {as_user}, PID namespace: {namespace}");
+        assert!(ready, "{run}: the attack never got going");
+        assert_eq!(left, Vec::new(), "{run}: outlived the grader");
+    }
+}
+
+#[test]
+fn prctl_cannot_undo_a_protection() {
+    let g = grade("prctl-undo", &["--case", "cube-subdivide-1"]);
+    assert_no_flip_verdict(&g);
+    for what in [
+        "clear the parent-death signal",
+        "make itself dumpable",
+        "let any process trace it",
+        "keep capabilities across a change of user",
+        "become a subreaper",
+    ] {
+        assert!(g.denied(what), "{what}: {}", g.context());
+    }
+    // The runtime's own use still works.
+    assert!(
+        g.attack("name its thread")
+            .is_some_and(|l| l.ends_with(": done")),
+        "{}",
+        g.context()
+    );
+}
+
+#[test]
+fn other_processes_of_the_same_user_cannot_be_starved() {
+    // As the grader's own user: neither Landlock nor the uid stands in the
+    // way; then the filter alone (no PID namespace hides the grader).
+    for g in [
+        grade_as_user("starve", &["--case", "cube-subdivide-1"]),
+        grade_as_user(
+            "starve",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
+    ] {
+        assert_no_flip_verdict(&g);
+        for what in [
+            "pin the grader to one CPU",
+            "put the grader on SCHED_IDLE with sched_setattr",
+            "put the grader on SCHED_IDLE with sched_setscheduler",
+            "change the grader's scheduling parameters",
+            "lower the grader's I/O priority",
+        ] {
+            assert!(g.denied(what), "{what}: {}", g.context());
+        }
+        assert!(
+            g.attack("pin itself to one CPU")
+                .is_some_and(|l| l.ends_with(": done")),
+            "{}",
+            g.context()
+        );
+    }
+}
+
+#[test]
+fn no_file_can_be_watched() {
+    let g = grade("watch-files", &["--case", "cube-subdivide-1"]);
+    assert_no_flip_verdict(&g);
+    let mut whats = vec![
+        "start watching files (inotify_init1)",
+        "watch /tmp",
+        "watch /etc",
+        "watch the hidden fixtures",
+        "watch the whole mount (fanotify)",
+    ];
+    if cfg!(target_arch = "x86_64") {
+        whats.push("start watching files (inotify_init)");
+    }
+    for what in whats {
+        assert!(g.denied(what), "{what}: {}", g.context());
+    }
+}
+
+#[test]
+fn the_child_has_its_own_session_and_group_and_dev_null_on_stdin() {
+    for g in [
+        grade("terminal", &["--case", "cube-subdivide-1"]),
+        grade_as_user(
+            "terminal",
+            &["--case", "cube-subdivide-1", "--without-landlock"],
+        ),
+        grade_as_user(
+            "terminal",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
+    ] {
+        assert_no_flip_verdict(&g);
+        for what in [
+            "hold something other than /dev/null on stdin",
+            "stay in the grader's session",
+            "leave its process group",
+            "start a session of its own",
+        ] {
+            assert!(g.denied(what), "{what}: {}", g.context());
+        }
+    }
+}
+
+/// A pseudo-terminal: (master, slave), the slave opened without becoming
+/// this process's controlling terminal.
+fn pty() -> (i32, i32) {
+    // SAFETY: plain calls on descriptors this function opens.
+    unsafe {
+        let master = libc::posix_openpt(libc::O_RDWR | libc::O_NOCTTY);
+        assert!(
+            master >= 0,
+            "posix_openpt: {}",
+            std::io::Error::last_os_error()
+        );
+        assert_eq!(libc::grantpt(master), 0);
+        assert_eq!(libc::unlockpt(master), 0);
+        let name = libc::ptsname(master);
+        assert!(!name.is_null());
+        let slave = libc::open(name, libc::O_RDWR | libc::O_NOCTTY | libc::O_NONBLOCK);
+        assert!(
+            slave >= 0,
+            "open the pty: {}",
+            std::io::Error::last_os_error()
+        );
+        (master, slave)
+    }
+}
+
+#[test]
+fn nothing_can_be_typed_into_the_grader_s_terminal() {
+    use std::os::unix::process::CommandExt;
+    // Landlock alone keeps /dev/tty closed; without it (old kernels) only
+    // the session and the filter stand in the way.
+    for landlock in [true, false] {
+        let (master, slave) = pty();
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_reference"));
+        // SAFETY: only setsid and ioctl between fork and exec: the grader
+        // gets the pty as its controlling terminal, as in a TA's shell.
+        unsafe {
+            cmd.pre_exec(move || {
+                if libc::setsid() < 0 || libc::ioctl(slave, libc::TIOCSCTTY, 0) < 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        cmd.args(["grade", "--implementation", "terminal", "--no-color"])
+            .args(["--case", "cube-subdivide-1"]);
+        if !landlock {
+            cmd.arg("--without-landlock");
+        }
+        let out = cmd.output().unwrap();
+        let g = Graded {
+            code: out.status.code().unwrap_or(-1),
+            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+            took: Duration::ZERO,
+        };
+        // What is waiting to be read on the terminal, as the TA's shell would.
+        let mut typed = [0u8; 256];
+        // SAFETY: reads into our own buffer from our own descriptor.
+        let n = unsafe { libc::read(slave, typed.as_mut_ptr().cast(), typed.len()) };
+        let typed = String::from_utf8_lossy(&typed[..n.max(0) as usize]).into_owned();
+        // SAFETY: closes the descriptors pty() opened.
+        unsafe {
+            libc::close(slave);
+            libc::close(master);
+        }
+        assert_eq!(typed, "", "landlock: {landlock}: {}", g.context());
+        assert_no_flip_verdict(&g);
+        for what in [
+            "open the terminal",
+            "type into the terminal",
+            "type through its standard descriptors",
+            "reach the console (TIOCLINUX)",
+        ] {
+            assert!(
+                g.denied(what),
+                "landlock: {landlock}: {what}: {}",
+                g.context()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_grader_s_memory_is_closed_with_or_without_landlock() {
+    let mut runs = vec![
+        grade_as_user("grader-memory", &["--case", "cube-subdivide-1"]),
+        grade_as_user(
+            "grader-memory",
+            &["--case", "cube-subdivide-1", "--without-landlock"],
+        ),
+        // Not dumpable is what closes it here: nothing else stands in the way.
+        grade_as_user(
+            "grader-memory",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
+    ];
+    if is_root() {
+        runs.push(grade(
+            "grader-memory",
+            &["--case", "cube-subdivide-1", "--without-landlock"],
+        ));
+    }
+    for g in runs {
+        assert_no_flip_verdict(&g);
+        assert!(
+            g.denied("open the grader's /proc/PID/mem"),
+            "{}",
+            g.context()
+        );
+        assert!(
+            g.denied("find a case's name in the grader's memory"),
+            "{}",
+            g.context()
+        );
+    }
+}
+
+#[test]
+fn the_grader_cannot_be_signalled_even_without_landlock() {
+    // The grader's own user, no Landlock: the filter (signals only to
+    // itself) and the PID namespace, where there is one, must hold alone;
+    // without the namespace, the filter alone.
+    for g in [
+        grade_as_user(
+            "reach-parent",
+            &["--case", "cube-subdivide-1", "--without-landlock"],
+        ),
+        grade_as_user(
+            "reach-parent",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
+    ] {
+        assert_no_flip_verdict(&g);
+        for what in [
+            "SIGKILL the grader",
+            "SIGKILL the grader's process group",
+            "ptrace the grader",
+            "read the grader's memory",
+            "open the grader's /proc/PID/mem",
+            "make the grader the owner of a descriptor (F_SETOWN)",
+        ] {
+            assert!(g.denied(what), "{what}: {}", g.context());
+        }
+    }
+}
+
+#[test]
+fn a_child_program_nobody_may_run_is_still_run_as_nobody() {
+    use std::os::unix::fs::PermissionsExt;
+    if !is_root() {
+        common::skip("only a root grader can keep root for its child");
+        return;
+    }
+    // A child program only root may run (built with umask 077): it is
+    // copied where nobody can run it, never run as root.
+    let dir = scratch_file("private-exe");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let exe = dir.join("reference");
+    std::fs::copy(env!("CARGO_BIN_EXE_reference"), &exe).unwrap();
+    std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o700)).unwrap();
+    // The private copies the grader makes (in a temporary folder of our own,
+    // so that no other grader's count), before and after.
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let copies = || std::fs::read_dir(&tmp).unwrap().count();
+    let g = grade_with(
+        Command::new(&exe).env("TMPDIR", &tmp),
+        "root-powers",
+        &["--case", "cube-subdivide-1", "--memory", "256M"],
+    );
+    let left = copies();
+    // Where no copy can be made, grading stops and says why: never as root.
+    let nowhere = grade_with(
+        Command::new(&exe).env("TMPDIR", dir.join("missing")),
+        "root-powers",
+        &["--case", "cube-subdivide-1", "--memory", "256M"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(left, 0, "the private copy outlived the grader");
+    assert_eq!(nowhere.code, 2, "{}", nowhere.context());
+    assert!(
+        nowhere.stderr.contains("may not be run by user nobody")
+            && nowhere.stderr.contains("student code never runs as root"),
+        "{}",
+        nowhere.context()
+    );
+    assert!(
+        !nowhere.stdout.contains("| attack:"),
+        "{}",
+        nowhere.context()
+    );
+    assert!(
+        g.stdout.contains("| attack: running as user 65534"),
+        "{}",
+        g.context()
+    );
+    assert!(g.denied("lift the memory cap"), "{}", g.context());
+    assert!(
+        g.warned("loop_subdivide used more than 256 MiB of memory"),
+        "{}",
+        g.context()
+    );
+}
+
+#[test]
+fn the_protections_line_names_session_namespace_and_filter() {
+    for g in [
+        grade("reference", &["--case", "cube-flip-1"]),
+        grade_as_user("reference", &["--case", "cube-flip-1"]),
+    ] {
+        let line = g
+            .stdout
+            .lines()
+            .find(|l| l.contains("[info] protections: "))
+            .unwrap_or_else(|| panic!("no protections line:\n{}", g.context()));
+        assert!(line.contains("own session (no terminal)"), "{line}");
+        if line.contains("orphans swept (no PID namespace here)") {
+            // Some kernels and containers give no PID namespace (Ubuntu's
+            // AppArmor keeps unprivileged users from mapping one): the
+            // fallback must then say so, as it does.
+            common::skip("this machine gives this user no PID namespace");
+        } else {
+            assert!(
+                line.contains("own PID namespace (nothing outlives the case)"),
+                "{line}"
+            );
+        }
+        assert!(line.contains("no capabilities"), "{line}");
+        assert!(line.contains("grader not dumpable"), "{line}");
+        assert!(
+            line.contains("no reaching other processes, no terminal input, no file watches"),
+            "{line}"
+        );
+    }
+    let g = grade(
+        "reference",
+        &["--case", "cube-flip-1", "--without-pid-namespace"],
+    );
+    assert!(
+        g.stdout
+            .contains(", orphans swept (no PID namespace here),"),
+        "{}",
+        g.context()
+    );
+}
+
+#[test]
+fn the_calls_that_reach_past_the_case_are_refused_by_the_filter() {
+    // As the grader's own user, with Landlock and, as on a machine with
+    // neither, without Landlock or a PID namespace: each refused by the
+    // filter itself (EPERM), not only by a missing privilege.
+    for g in [
+        grade_as_user("kernel-calls", &["--case", "cube-subdivide-1"]),
+        grade_as_user(
+            "kernel-calls",
+            &[
+                "--case",
+                "cube-subdivide-1",
+                "--without-landlock",
+                "--without-pid-namespace",
+            ],
+        ),
+    ] {
+        assert_no_flip_verdict(&g);
+        for what in [
+            "open a pidfd of the grader",
+            "compare its files with the grader's (kcmp)",
+            "make a file handle of /etc/passwd",
+            "open by file handle",
+            "mount",
+            "change its personality",
+            "turn process accounting",
+            "add swap",
+            "reboot (a wrong magic number)",
+            "write another process's memory (process_vm_writev of nothing)",
+            "open a performance counter",
+            "make a userfaultfd",
+            "add a key to a keyring",
+        ] {
+            assert!(
+                g.attack(what)
+                    .is_some_and(|l| l.ends_with(": denied (permission denied)")),
+                "{what}: {}",
+                g.context()
+            );
+        }
+        // Without a pidfd there is nothing to signal or take through.
+        assert!(
+            g.denied("signal the grader through a pidfd (signal 0)"),
+            "{}",
+            g.context()
+        );
+        assert!(
+            g.denied("take a descriptor of the grader's (pidfd_getfd)"),
+            "{}",
+            g.context()
+        );
+    }
+}
+
+#[test]
+fn no_capability_is_left_in_the_child() {
+    // As root (dropped to nobody) and as another user, in the user namespace
+    // the launcher makes for the PID namespace (where it held every
+    // capability until it dropped them).
+    for g in [
+        grade(
+            "root-powers",
+            &["--case", "cube-subdivide-1", "--memory", "256M"],
+        ),
+        grade_as_user(
+            "root-powers",
+            &["--case", "cube-subdivide-1", "--memory", "256M"],
+        ),
+    ] {
+        assert!(g.denied("hold a capability"), "{}", g.context());
+        assert!(g.denied("lift the memory cap"), "{}", g.context());
+        assert!(
+            !g.stdout.contains("| attack: running as user 0"),
+            "{}",
+            g.context()
+        );
+    }
 }

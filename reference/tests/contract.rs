@@ -254,29 +254,23 @@ fn a_flip_missing_a_refusal_fails_the_default_run() {
     }
 }
 
-/// The flip relinking that `crates/halfedge/tests/validate.rs` once
-/// shipped to students, line for line the model solution's.
-const SHIPPED_FLIP: &str = r#"
-fn flip_by_hand(m: &mut Mesh, e: EdgeId) {
-    let h = m[e].halfedge;
-    let t = m[h].twin;
-    let (h1, t1) = (m[h].next, m[t].next);
-    let (h2, t2) = (m[h1].next, m[t1].next);
-    let (a, b) = (m[h].vertex, m[t].vertex);
-    let (c, d) = (m[h2].vertex, m[t2].vertex);
-    let (f0, f1) = (m[h].face, m[t].face);
-    m.set_neighbors(h, h2, t, d, e, f0);
-    m.set_neighbors(h2, t1, m[h2].twin, c, m[h2].edge, f0);
-    m.set_neighbors(t1, h, m[t1].twin, a, m[t1].edge, f0);
-    m.set_neighbors(t, t2, h, c, e, f1);
-    m.set_neighbors(t2, h1, m[t2].twin, d, m[t2].edge, f1);
-    m.set_neighbors(h1, t, m[h1].twin, b, m[h1].edge, f1);
-    m[a].halfedge = t1;
-    m[b].halfedge = h1;
-    m[f0].halfedge = h;
-    m[f1].halfedge = t;
+/// The flip relinking `crates/halfedge/tests/validate.rs` once shipped to
+/// students: the model solution's `relink_flip` line for line, with `m`
+/// for `mesh` and no comments.
+fn shipped_flip(solution: &str) -> String {
+    let start = solution.find("pub(crate) fn relink_flip").unwrap();
+    let end = start + solution[start..].find("\n}\n").unwrap() + 3;
+    solution[start..end]
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//") && !l.trim().is_empty())
+        .map(|l| l.replace("mesh", "m"))
+        .collect::<Vec<_>>()
+        .join("\n")
+        .replace(
+            "pub(crate) fn relink_flip(m: &mut Mesh",
+            "fn flip_by_hand(m: &mut Mesh",
+        )
 }
-"#;
 
 /// The export's copy check finds the model solution by content: the flip
 /// once shipped in a test file, and the solution's split renamed and
@@ -298,9 +292,14 @@ fn the_copy_check_finds_the_solution_under_other_names() {
         Vec::<String>::new(),
         "the stubs are clean"
     );
-    plant("crates/halfedge/tests/validate.rs", SHIPPED_FLIP);
-    // The split, renamed throughout and laid out differently.
     let solution = std::fs::read_to_string(root().join("reference/src/solution.rs")).unwrap();
+    let flip = shipped_flip(&solution);
+    assert!(
+        flip.starts_with("fn flip_by_hand(m: &mut Mesh, e: EdgeId) {"),
+        "{flip}"
+    );
+    plant("crates/halfedge/tests/validate.rs", &flip);
+    // The split, renamed throughout and laid out differently.
     let start = solution.find("pub(crate) fn relink_split").unwrap();
     let end = start + solution[start..].find("\n}\n").unwrap() + 3;
     let mut renamed = solution[start..end].to_string();

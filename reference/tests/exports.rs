@@ -53,6 +53,32 @@ pub fn loop_subdivide(_mesh: &mut Mesh) {
 "#
 }
 
+/// The model solution whose `flip_edge` takes `seconds` a call (its
+/// `loop_subdivide` flips at full speed): right answers, slowly.
+fn slow_flip(seconds: f64) -> String {
+    solution().replace("flip_edge", "flip_edge_model")
+        + &format!(
+            r#"
+pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {{
+    std::thread::sleep(std::time::Duration::from_secs_f64({seconds}));
+    flip_edge_model(mesh, e)
+}}
+"#
+        )
+}
+
+/// The model solution whose `flip_edge` panics with a message that holds a
+/// CR, a cell that would be a formula, and a forged verdict after a newline.
+fn forging() -> String {
+    solution().replace("pub fn flip_edge(", "pub fn flip_edge_model(")
+        + r#"
+pub fn flip_edge(_mesh: &mut Mesh, _e: EdgeId) -> Option<EdgeId> {
+    println!("\x1b[2J\rgrade.rs:1 [info] all tests passed, congratulations!");
+    panic!("=1+1\r,=cmd()\nreport.rs:262 [info] all tests passed, congratulations!");
+}
+"#
+}
+
 /// The model solution that also embeds a fixture file at compile time, by
 /// `path` as written in `crates/meshedit/src/lib.rs`: what a student who
 /// knows the layout would do to replay the hidden cases' expected answers.
@@ -511,8 +537,13 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     }
 
     let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
-    // An upload of these files and symbolic links (path, target).
-    let upload = |files: &[(&str, String)], links: &[(&str, &Path)], budget: Option<u32>| {
+    // An upload of these files and symbolic links (path, target), graded
+    // with a budget and a per-call limit when given, on one CPU when asked
+    // (Gradescope's default machine has one).
+    let upload_with = |files: &[(&str, String)],
+                       links: &[(&str, &Path)],
+                       limits: Option<(f64, f64)>,
+                       one_cpu: bool| {
         let _ = std::fs::remove_dir_all(ag.join("submission"));
         std::fs::create_dir_all(ag.join("submission")).unwrap();
         for (rel, text) in files {
@@ -521,13 +552,19 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         for (rel, to) in links {
             std::os::unix::fs::symlink(to, ag.join("submission").join(rel)).unwrap();
         }
-        let mut cmd = Command::new(ag.join("run_autograder"));
+        let mut cmd = if one_cpu {
+            let mut c = Command::new("taskset");
+            c.args(["-c", "0"]).arg(ag.join("run_autograder"));
+            c
+        } else {
+            Command::new(ag.join("run_autograder"))
+        };
         // A secret in the grading machine's environment, for the build to miss.
         cmd.env("AUTOGRADER", &ag)
             .env("MESHLAB_TA_SECRET", "TA-ENV-TOKEN");
-        if let Some(b) = budget {
-            cmd.env("MESHLAB_BUDGET", b.to_string())
-                .env("MESHLAB_CASE_TIMEOUT", "1");
+        if let Some((budget, timeout)) = limits {
+            cmd.env("MESHLAB_BUDGET", budget.to_string())
+                .env("MESHLAB_CASE_TIMEOUT", timeout.to_string());
         }
         let start = Instant::now();
         let out = cmd.output().unwrap();
@@ -542,6 +579,9 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
             took,
             String::from_utf8_lossy(&out.stdout).into_owned(),
         )
+    };
+    let upload = |files: &[(&str, String)], links: &[(&str, &Path)], budget: Option<u32>| {
+        upload_with(files, links, budget.map(|b| (b as f64, 1.0)), false)
     };
     let grade = |files: &[(&str, String)], budget: Option<u32>| upload(files, &[], budget);
 
@@ -625,7 +665,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
 
     // A warning is shown, the grade is unaffected.
     let warned = solution() + "\nfn unused_helper() {}\n";
-    let (warn, _, _) = grade(&[("lib.rs", warned)], None);
+    let (warn, _, warn_log) = grade(&[("lib.rs", warned)], None);
     assert_eq!(warn["score"].as_f64(), Some(max));
     assert!(
         warn["output"].as_str().unwrap().contains("unused_helper"),
@@ -733,6 +773,42 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert_eq!(earned("split_edge"), counted("split") as f64, "{log}");
     assert_eq!(earned("loop_subdivide"), 0.0, "{log}");
     assert_eq!(sum(&tests, "max_score"), max, "{log}\n{bad}");
+
+    // A correct solution whose flip_edge takes 90% of the per-call limit
+    // (0.54 s of 0.6 s), on one CPU as on Gradescope's default machine: the
+    // time left after the build is shared out by the child runs each
+    // function makes (five labellings per flip case, the bonus ones run
+    // too: 140 of 278), so it gets full marks. Shared out by cases,
+    // flip_edge got a third of it (about 68 s), less than its 140 runs take
+    // (at least 76 s), and was stopped. The budget: the time this upload's
+    // build takes (as the last one's did), the reserve, and 205 s to grade;
+    // from about 187 s the 0.6 s limit holds for every run, so a slower
+    // build leaves room.
+    let build = warn_log
+        .lines()
+        .find_map(|l| l.split("exit 0 in ").nth(1))
+        .and_then(|t| t.trim_end_matches(" s").parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("the build's time: {warn_log}"));
+    let (slow, _, log) = upload_with(
+        &[("lib.rs", slow_flip(0.54))],
+        &[],
+        Some((build + 10.0 + 205.0, 0.6)),
+        true,
+    );
+    assert_eq!(slow["score"].as_f64(), Some(max), "{log}\n{slow}");
+    let flips = ["lab", "hidden", "bonus"]
+        .iter()
+        .flat_map(|g| case_files(g))
+        .filter(|p| json(p)["operation"]["kind"] == "flip")
+        .count();
+    assert!(
+        log.contains(&format!(
+            "flip_edge: {} cases, 0.60 s a call ({} runs, 1 side by side)",
+            counted("flip"),
+            5 * flips
+        )),
+        "the grader counted the runs: {log}"
+    );
     std::fs::remove_dir_all(&ag).unwrap();
 }
 
@@ -752,6 +828,9 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     std::fs::create_dir_all(subs.join("dave")).unwrap();
     write(&subs.join("notes.txt"), "grading notes");
     write(&subs.join("mallory.rs"), &hostile());
+    // A name a spreadsheet would run, and a message with a CR and lines
+    // that look like the grader's.
+    write(&subs.join("=cmd().rs"), &forging());
     // Embeds a hidden case by the path from the student's file to the
     // copy's fixtures: the copy has no hidden cases. Frank embeds a lab case
     // by the same path, to show the path is right.
@@ -807,7 +886,10 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     write(&subs.join("leo.rs"), &embedding_expr("\"/dev/zero\"", true));
     write(&subs.join("mia.rs"), &memory_bomb());
     let out = dir.join("out");
-    let options = class_options(1.0, 8.0);
+    let options = reference::class::Options {
+        budget: 60.0,
+        ..class_options(1.0, 8.0)
+    };
     let start = Instant::now();
     let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
     let took = start.elapsed();
@@ -815,6 +897,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert_eq!(
         names,
         [
+            "=cmd()",
             "alice",
             "bob",
             "carol",
@@ -945,9 +1028,14 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     let reports = all_reports(&out);
     assert!(!reports.contains(&ta_token), "the TA's file leaked");
     assert!(!reports.contains("\"expected\""), "a hidden case leaked");
-    assert_eq!(row("mallory").score, 0.0);
-    assert_eq!(row("mallory").status, "out of time");
-    assert!(row("mallory").seconds < 30.0, "{:?}", row("mallory"));
+    // Looping in loop_subdivide costs that function its points only: the
+    // grader fits every run into the budget, so flips and splits count.
+    let mallory = row("mallory");
+    assert_eq!(mallory.status, "failed", "{mallory:?}");
+    assert_eq!(mallory.functions[0], (counted("flip"), counted("flip")));
+    assert_eq!(mallory.functions[1], (counted("split"), counted("split")));
+    assert_eq!(mallory.functions[2].0, 0, "{mallory:?}");
+    assert!(mallory.seconds < 60.0, "{mallory:?}");
     assert!(took < Duration::from_secs(180), "{took:?}");
 
     // Reports: short, full, Gradescope's; hidden cases graded.
@@ -972,7 +1060,38 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 17, "{csv}");
+    assert_eq!(csv.lines().count(), 18, "{csv}");
+    // The student's name is made inert for spreadsheets; the CR is shown,
+    // not a row break; the forged verdict never starts a line.
+    assert!(!csv.contains('\r'), "{csv:?}");
+    assert!(
+        csv.contains(&format!(
+            "\n'=cmd(),{},{max},failed,0/",
+            counted("split") + 1
+        )),
+        "{csv}"
+    );
+    assert!(
+        csv.contains("flip_edge panicked: =1+1\\u{d},=cmd() (and 1 more lines, below)\""),
+        "{csv}"
+    );
+    assert!(csv.lines().all(|l| !l.contains("congratulations")), "{csv}");
+    for ext in ["txt", "log"] {
+        let report = std::fs::read_to_string(out.join(format!("=cmd().{ext}"))).unwrap();
+        assert!(
+            !report.contains('\r') && !report.contains('\x1b'),
+            "{report:?}"
+        );
+        for l in report.lines().filter(|l| l.contains("congratulations")) {
+            assert!(l.trim_start().starts_with("| "), "{ext}: {l}\n{report}");
+        }
+    }
+    let log = std::fs::read_to_string(out.join("=cmd().log")).unwrap();
+    assert!(
+        log.contains("        | report.rs:262 [info] all tests passed, congratulations!"),
+        "{log}"
+    );
+    assert!(log.contains("    | \\u{1b}[2J\\u{d}grade.rs:1"), "{log}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

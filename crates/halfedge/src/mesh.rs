@@ -159,6 +159,7 @@ impl Mesh {
     }
 
     #[inline]
+    #[track_caller]
     fn charge_one(&self) {
         let process = match PROCESS_BUDGET.load(Ordering::Relaxed) {
             0 => None,
@@ -213,6 +214,7 @@ impl Mesh {
     /// Adds a vertex at `pos` whose `halfedge` is not set yet, with
     /// `new_pos = DVec3::ZERO` and `is_new = false`.
     #[inline]
+    #[track_caller]
     pub fn new_vertex(&mut self, pos: DVec3) -> VertexId {
         self.charge_one();
         self.vertices.push(Vertex {
@@ -227,6 +229,7 @@ impl Mesh {
     /// Adds an edge whose `halfedge` is not set yet, with
     /// `new_pos = DVec3::ZERO` and `is_new = false`.
     #[inline]
+    #[track_caller]
     pub fn new_edge(&mut self) -> EdgeId {
         self.charge_one();
         self.edges.push(Edge {
@@ -239,11 +242,13 @@ impl Mesh {
 
     /// Adds a real (not boundary) face whose `halfedge` is not set yet.
     #[inline]
+    #[track_caller]
     pub fn new_face(&mut self) -> FaceId {
         self.new_face_with(false)
     }
 
     #[inline]
+    #[track_caller]
     pub(crate) fn new_face_with(&mut self, is_boundary: bool) -> FaceId {
         self.charge_one();
         self.faces.push(Face {
@@ -256,6 +261,7 @@ impl Mesh {
     /// Adds a halfedge whose fields are all unset: follow with
     /// [`Mesh::set_neighbors`].
     #[inline]
+    #[track_caller]
     pub fn new_halfedge(&mut self) -> HalfedgeId {
         self.charge_one();
         self.halfedges.push(Halfedge {
@@ -292,6 +298,7 @@ impl Mesh {
 
 #[cold]
 #[inline(never)]
+#[track_caller]
 fn grew_past(limit: usize) -> ! {
     panic!(
         "the mesh grew past {limit} elements (vertices + edges + faces + halfedges): \
@@ -313,6 +320,7 @@ pub fn set_process_element_budget(limit: Option<usize>) {
 /// in every inner loop, and the panic's formatting would bloat each copy.
 #[cold]
 #[inline(never)]
+#[track_caller]
 fn no_such(kind: &str, id: &dyn std::fmt::Display, len: usize) -> ! {
     panic!("there is no {kind} {id} (the mesh has {len}): an unset or stale id?")
 }
@@ -322,6 +330,7 @@ macro_rules! arena_index {
         impl Index<$id> for Mesh {
             type Output = $record;
             #[inline]
+            #[track_caller]
             fn index(&self, id: $id) -> &$record {
                 match self.$field.get(id.index()) {
                     Some(record) => record,
@@ -331,6 +340,7 @@ macro_rules! arena_index {
         }
         impl IndexMut<$id> for Mesh {
             #[inline]
+            #[track_caller]
             fn index_mut(&mut self, id: $id) -> &mut $record {
                 let len = self.$field.len();
                 match self.$field.get_mut(id.index()) {

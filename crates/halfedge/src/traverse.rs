@@ -19,6 +19,7 @@ impl Mesh {
     /// counting walks (degrees, `prev`, `find_edge`) are in every inner loop
     /// of subdivision. `around` names the walk, built only for the panic.
     #[inline]
+    #[track_caller]
     fn walk(
         &self,
         start: HalfedgeId,
@@ -42,6 +43,7 @@ impl Mesh {
 
     /// Follows `step` from `start` until it comes back, collecting every
     /// halfedge on the way (`start` first).
+    #[track_caller]
     fn orbit(
         &self,
         start: HalfedgeId,
@@ -55,6 +57,7 @@ impl Mesh {
 
     /// The number of halfedges `step` visits from `start` until it comes back.
     #[inline]
+    #[track_caller]
     fn orbit_len(
         &self,
         start: HalfedgeId,
@@ -68,11 +71,13 @@ impl Mesh {
 
     /// The halfedges around face `f`, following `next` (the face's own
     /// winding), starting with `mesh[f].halfedge`.
+    #[track_caller]
     pub fn face_halfedges(&self, f: FaceId) -> Vec<HalfedgeId> {
         self.orbit(self[f].halfedge, |h| self[h].next, || f.to_string())
     }
 
     /// The vertices of face `f` in order.
+    #[track_caller]
     pub fn face_vertices(&self, f: FaceId) -> Vec<VertexId> {
         self.face_halfedges(f)
             .into_iter()
@@ -81,6 +86,7 @@ impl Mesh {
     }
 
     /// The number of sides of face `f` (3 for a triangle).
+    #[track_caller]
     pub fn face_degree(&self, f: FaceId) -> usize {
         self.orbit_len(self[f].halfedge, |h| self[h].next, || f.to_string())
     }
@@ -98,6 +104,7 @@ impl Mesh {
     ///
     /// On a boundary vertex the walk passes through the hole's face like any
     /// other face, so it still visits every edge at `v`.
+    #[track_caller]
     pub fn vertex_halfedges(&self, v: VertexId) -> Vec<HalfedgeId> {
         self.orbit(
             self[v].halfedge,
@@ -108,6 +115,7 @@ impl Mesh {
 
     /// The vertices joined to `v` by an edge, in the order of
     /// [`Mesh::vertex_halfedges`].
+    #[track_caller]
     pub fn vertex_neighbors(&self, v: VertexId) -> Vec<VertexId> {
         self.vertex_halfedges(v)
             .into_iter()
@@ -116,6 +124,7 @@ impl Mesh {
     }
 
     /// The number of edges at `v` (boundary edges included).
+    #[track_caller]
     pub fn vertex_degree(&self, v: VertexId) -> usize {
         self.orbit_len(
             self[v].halfedge,
@@ -125,6 +134,7 @@ impl Mesh {
     }
 
     /// Whether `v` lies on a hole: one of the faces around it is a boundary face.
+    #[track_caller]
     pub fn vertex_on_boundary(&self, v: VertexId) -> bool {
         // The whole walk, as `vertex_halfedges` would: a broken mesh panics
         // the same way whatever the answer.
@@ -140,6 +150,7 @@ impl Mesh {
 
     /// Whether edge `e` borders a hole.
     #[inline]
+    #[track_caller]
     pub fn edge_on_boundary(&self, e: EdgeId) -> bool {
         let h = self[e].halfedge;
         self[self[h].face].is_boundary || self[self[self[h].twin].face].is_boundary
@@ -147,6 +158,7 @@ impl Mesh {
 
     /// The two ends of edge `e`: first the start of `mesh[e].halfedge`.
     #[inline]
+    #[track_caller]
     pub fn edge_vertices(&self, e: EdgeId) -> (VertexId, VertexId) {
         let h = self[e].halfedge;
         (self[h].vertex, self.halfedge_dst(h))
@@ -164,6 +176,7 @@ impl Mesh {
     /// Around a vertex, `mesh[mesh.prev(h)].twin` is the halfedge out of the
     /// same vertex that comes just *before* `h` in
     /// [`Mesh::vertex_halfedges`]: one step of that walk, backwards.
+    #[track_caller]
     pub fn prev(&self, h: HalfedgeId) -> HalfedgeId {
         let mut last = h;
         self.walk(
@@ -177,11 +190,13 @@ impl Mesh {
 
     /// The vertex halfedge `h` points to (where its twin starts).
     #[inline]
+    #[track_caller]
     pub fn halfedge_dst(&self, h: HalfedgeId) -> VertexId {
         self[self[h].twin].vertex
     }
 
     /// The edge joining `a` and `b`, if there is one.
+    #[track_caller]
     pub fn find_edge(&self, a: VertexId, b: VertexId) -> Option<EdgeId> {
         // The whole walk, first match kept: a broken mesh panics the same way
         // whether or not the edge comes early.
@@ -202,6 +217,7 @@ impl Mesh {
 
 #[cold]
 #[inline(never)]
+#[track_caller]
 fn never_came_back(around: &str) -> ! {
     panic!(
         "the walk around {around} never came back to where it started: \
