@@ -18,6 +18,8 @@
 //! - [`grade`]: the verdict and messages for one case.
 //! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
 //!   anything the student's code said is shown (as data, under `| `).
+//! - [`build_sandbox`]: the launcher that locks a student's build in (used
+//!   by the TA's class grading and the Gradescope bundle).
 //!
 //! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
 //! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
@@ -30,6 +32,7 @@ compile_error!(
      on Windows, work in WSL (Windows Subsystem for Linux)"
 );
 
+pub mod build_sandbox;
 pub mod child;
 pub mod digest;
 pub mod fixture;

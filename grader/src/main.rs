@@ -8,5 +8,6 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     grader::sandbox::launch_if_asked();
+    grader::build_sandbox::launch_if_asked();
     grader::main_with(grader::student_child_program)
 }

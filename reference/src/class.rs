@@ -6,17 +6,20 @@
 //! the fixtures (hidden cases included) in a folder outside that copy. The
 //! reports land in one folder with a CSV summary.
 //!
-//! The build can read what the TA can: `include_str!` in a student's code
-//! reads any such file while it compiles. So the hidden cases are never in
-//! the copy (no relative path reaches them) and their folder has a name
-//! nobody can predict; the TA's own lab stays readable by absolute path
-//! (the TA guide says how to close that too).
+//! Compiling is running the student's code (`include_str!`, `env!`): every
+//! build goes through the grader's build launcher
+//! ([`grader::build_sandbox`]), which lets it read only the toolchain, the
+//! vendored dependencies and that copy, write only its target folder (in a
+//! folder of its own outside the lab, under a name nobody can guess), with
+//! an environment of its own, no network, a memory cap and a time limit. So
+//! a TA grading as themselves is as safe as one using a separate user.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use grader::build_sandbox::Outcome;
 use grader::quoted::{self, Quoted};
 
 use crate::handout::{self, Purpose};
@@ -213,8 +216,18 @@ pub struct Options {
     pub bonus: bool,
     /// Add each submission's fresh cases (see [`crate::fresh`]).
     pub fresh: bool,
-    /// Cargo's target folder (shared by every submission).
-    pub target: PathBuf,
+    /// The folder the builds use (`target/` and `vendor/` in it), shared by
+    /// every submission; outside the lab. `None`: a new private temporary
+    /// folder, removed at the end (the dependencies then compile afresh).
+    pub build_dir: Option<PathBuf>,
+    /// The program that locks builds in: one whose `main` calls
+    /// [`grader::build_sandbox::launch_if_asked`] (the reference binary).
+    pub launcher: PathBuf,
+    /// The memory cap of each compiler process, in bytes.
+    pub build_memory: u64,
+    /// Seconds one submission's build may take (`None`: the budget, at
+    /// least 60 s).
+    pub build_seconds: Option<f64>,
     /// Print a progress line per submission on standard error.
     pub progress: bool,
 }
@@ -373,6 +386,83 @@ fn kill_group(pid: u32) {
 #[cfg(not(unix))]
 fn kill_group(_: u32) {}
 
+/// A locked-in build of the copy, through the launcher program.
+struct BuildJail {
+    build: grader::build_sandbox::Build,
+    launcher: PathBuf,
+}
+
+/// How a locked-in build went: the launcher's status and cargo's output.
+struct Built {
+    report: grader::build_sandbox::Report,
+    log: String,
+}
+
+impl BuildJail {
+    /// Runs the build, its output in `logs`; an error is the TA's (the
+    /// launcher missing), never the student's.
+    fn run(&self, logs: &Path) -> Result<Built, String> {
+        let _ = std::fs::remove_file(&self.build.status);
+        let mut cmd = Command::new(&self.launcher);
+        cmd.args(self.build.args()).env_clear();
+        let (out, err) = (logs.join("build.out"), logs.join("build.err"));
+        // The launcher keeps the time limit itself; this is for a launcher
+        // that hangs.
+        let limit = Duration::from_secs_f64(self.build.seconds + 30.0);
+        run_limited(cmd, &out, &err, limit)?;
+        let report = grader::build_sandbox::Report::read(&self.build.status)?;
+        let log = std::fs::read_to_string(&err).unwrap_or_default();
+        Ok(Built { report, log })
+    }
+}
+
+/// The toolchain's root, as the lab's `rust-toolchain.toml` chooses it.
+fn sysroot(lab: &Path) -> Result<PathBuf, String> {
+    let out = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .current_dir(lab)
+        .output()
+        .map_err(|e| format!("cannot run rustc: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    if !out.status.success() || text.is_empty() {
+        return Err(format!(
+            "rustc --print sysroot failed: {}",
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    Ok(PathBuf::from(text))
+}
+
+/// Removes what the previous submission's build left in the shared target
+/// folder (its compiled crate, its incremental cache, the programs linked
+/// with it), so that the next build, which may read that folder, finds
+/// nothing of another student's.
+fn forget_submission(target: &Path) {
+    let debug = target.join("debug");
+    for dir in [
+        debug.clone(),
+        debug.join("deps"),
+        debug.join("incremental"),
+        debug.join(".fingerprint"),
+    ] {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let bin = name == "grader" || name.starts_with("grader-") && dir.ends_with("deps");
+            let theirs = name.contains("meshedit")
+                || name.contains("grader_child")
+                || name.contains("grader-child");
+            if theirs || bin && !name.ends_with(".d") {
+                let path = entry.path();
+                let _ = if path.is_dir() {
+                    std::fs::remove_dir_all(&path)
+                } else {
+                    std::fs::remove_file(&path)
+                };
+            }
+        }
+    }
+}
+
 /// Cargo's output without its progress lines.
 fn compiler_text(stderr: &str) -> String {
     stderr
@@ -459,34 +549,104 @@ pub fn grade_class(
             counts[k] += n;
         }
     }
-    let exe = options
-        .target
+    let build_dir = match &options.build_dir {
+        Some(dir) => {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            let dir = dir.canonicalize().map_err(|e| e.to_string())?;
+            let lab = root.canonicalize().map_err(|e| e.to_string())?;
+            if dir.starts_with(&lab) {
+                return Err(format!(
+                    "{}: the build folder must be outside the lab (its path is visible \
+                     to the student's code at compile time)",
+                    dir.display()
+                ));
+            }
+            dir
+        }
+        None => {
+            let dir = std::env::temp_dir().join(unpredictable_name("meshlab-build-"));
+            private_dir(&dir)?;
+            dir
+        }
+    };
+    let _cleanup_build = RemovedAtEnd(if options.build_dir.is_none() {
+        vec![build_dir.clone()]
+    } else {
+        Vec::new()
+    });
+    let target = build_dir.join("target");
+    let vendor = build_dir.join("vendor");
+    // The dependencies' sources, out of the TA's cargo home (which holds
+    // more than sources), at a fixed place beside the target folder (their
+    // path is in the compiled dependencies' fingerprints).
+    let _ = std::fs::remove_dir_all(&vendor);
+    let vendored = Command::new(handout::cargo())
+        .args(["vendor", "--locked", "--offline", "--quiet"])
+        .arg(&vendor)
+        .current_dir(&template)
+        .stdout(Stdio::null())
+        .output()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !vendored.status.success() {
+        return Err(format!(
+            "cargo vendor failed (run `cargo fetch` in the lab once, with the network):\n{}",
+            String::from_utf8_lossy(&vendored.stderr)
+        ));
+    }
+    let sysroot = sysroot(&template)?;
+    let build = |seconds: f64, status: PathBuf| BuildJail {
+        build: grader::build_sandbox::Build {
+            lab: work.clone(),
+            vendor: vendor.clone(),
+            sysroot: sysroot.clone(),
+            target: target.clone(),
+            memory: options.build_memory,
+            seconds,
+            status,
+            drop_user: false,
+            landlock: true,
+        },
+        launcher: options.launcher.clone(),
+    };
+    let exe = target
         .join("debug")
         .join(format!("grader{}", std::env::consts::EXE_SUFFIX));
 
     // Build the lab once, with no budget: the dependencies' first build
-    // (a minute or more) must not count against the first student.
+    // (a minute or more) must not count against the first student. Locked
+    // in like every build, so that the students' builds find it fresh.
     if options.progress {
         eprintln!("building the lab once (the first time takes a minute or two)...");
     }
-    let warm = Command::new(handout::cargo())
-        .args(["build", "--offline", "--quiet", "-p", "grader"])
-        .current_dir(&template)
-        .env("CARGO_TARGET_DIR", &options.target)
-        .output()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
-    if !warm.status.success() {
+    let _ = std::fs::remove_dir_all(&work);
+    copy_keeping_times(&template, &work)?;
+    let logs = scratch.join("logs");
+    std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
+    let warm = build(3600.0, logs.join("warm.status")).run(&logs)?;
+    if warm.report.outcome != grader::build_sandbox::Outcome::Built {
         return Err(format!(
-            "the lab itself does not build:\n{}",
-            String::from_utf8_lossy(&warm.stderr)
+            "the lab itself does not build ({}):\n{}",
+            warm.report.failure().unwrap_or_default(),
+            warm.log
         ));
+    }
+    if warm.report.landlock == 0 && options.progress {
+        eprintln!(
+            "warning: this kernel has no Landlock: students' builds can read every file you \
+             can (run class grading as a user who can read only the lab, or on a newer kernel)"
+        );
+    }
+    if options.progress {
+        eprintln!("{}", warm.report.protections());
     }
 
     let started = Instant::now();
     let mut rows = Vec::new();
     for (i, s) in students.iter().enumerate() {
         let t0 = Instant::now();
-        let row = grade_one(s, &template, &work, &fixtures, &out, &exe, counts, options)?;
+        let seconds = options.build_seconds.unwrap_or(options.budget.max(60.0));
+        let jail = build(seconds, logs.join("build.status"));
+        let row = grade_one(s, &template, &jail, &fixtures, &out, &exe, counts, options)?;
         let row = Row {
             seconds: t0.elapsed().as_secs_f64(),
             ..row
@@ -536,7 +696,7 @@ pub fn grade_class(
 fn grade_one(
     s: &Submission,
     template: &Path,
-    work: &Path,
+    jail: &BuildJail,
     fixtures: &Path,
     out: &Path,
     exe: &Path,
@@ -586,42 +746,35 @@ fn grade_one(
     };
 
     // A pristine copy for each student: nothing a previous submission did
-    // to its copy survives.
+    // to its copy survives, nor its compiled crate in the target folder.
+    let work = jail.build.lab.as_path();
     let _ = std::fs::remove_dir_all(work);
     copy_keeping_times(template, work)?;
     std::fs::copy(lib_rs, work.join("crates/meshedit/src/lib.rs"))
         .map_err(|e| format!("{}: {e}", lib_rs.display()))?;
+    forget_submission(&jail.build.target);
 
     // Outside the copy the student's code runs in.
     let logs = work.with_file_name("logs");
     let _ = std::fs::remove_dir_all(&logs);
     std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
-    let mut build = Command::new(handout::cargo());
-    build
-        .args(["build", "--offline", "--color", "never", "-p", "grader"])
-        .current_dir(work)
-        .env("CARGO_TARGET_DIR", &options.target);
-    let (build_out, build_err) = (logs.join("build.out"), logs.join("build.err"));
-    let code = run_limited(
-        build,
-        &build_out,
-        &build_err,
-        Duration::from_secs_f64(options.budget.max(60.0)),
-    )?;
-    let build_log = std::fs::read_to_string(&build_err).unwrap_or_default();
-    let compiler = compiler_text(&build_log);
-    match code {
-        Some(0) => {}
-        None => {
-            not_graded(
-                &mut row,
-                "does not compile",
-                "the build ran out of time",
-                &build_log,
-            )?;
+    let built = jail.run(&logs)?;
+    let build_log = format!("{}\n{}", built.report.protections(), built.log);
+    let compiler = compiler_text(&built.log);
+    match built.report.outcome {
+        Outcome::Built => {}
+        Outcome::NotLockedIn => {
+            return Err(built.report.failure().unwrap_or_default());
+        }
+        Outcome::OutOfMemory | Outcome::OutOfTime => {
+            let message = built.report.failure().unwrap_or_default();
+            let why = format!("does not compile: {message}\n\n{compiler}");
+            not_graded(&mut row, "does not compile", &why, &build_log)?;
+            // The limit it hit, rather than the compiler's last words.
+            row.first_failure = message;
             return Ok(row);
         }
-        Some(_) => {
+        Outcome::Failed => {
             let why = format!("does not compile:\n\n{compiler}");
             not_graded(&mut row, "does not compile", &why, &build_log)?;
             return Ok(row);
@@ -652,7 +805,12 @@ fn grade_one(
         .arg(fixtures)
         .args(["--format", "json", "--gradescope"])
         .arg(&results)
-        .current_dir(work);
+        .current_dir(work)
+        // Nothing of the TA's: with CARGO set (as `cargo run -p reference`
+        // sets it) the grader would rebuild the student's crate itself,
+        // outside the build's lock-in and with the TA's environment.
+        .env_clear()
+        .env("PATH", "/usr/bin:/bin");
     if options.bonus {
         grade.arg("--bonus");
     }

@@ -172,12 +172,17 @@ enum Command {
     /// Grade every entry of SUBMISSIONS (NAME.rs, or a folder holding lib.rs
     /// or the workspace), hidden cases included: writes NAME.txt (short),
     /// NAME.log (full), NAME.results.json (Gradescope's format) and
-    /// summary.csv. Builds go to $CARGO_TARGET_DIR, else target/class.
+    /// summary.csv. Every build is locked in (see the TA guide).
     Class {
         submissions: PathBuf,
         /// Where the reports go.
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
+        /// Keep the builds (target/ and vendor/) in DIR, outside the lab, to
+        /// reuse the compiled dependencies next time; by default a new
+        /// private temporary folder, removed at the end.
+        #[arg(long, value_name = "DIR")]
+        build_dir: Option<PathBuf>,
         /// Seconds each case may run.
         #[arg(long, default_value_t = 5.0)]
         timeout: f64,
@@ -263,6 +268,7 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
 
 fn main() -> ExitCode {
     grader::sandbox::launch_if_asked();
+    grader::build_sandbox::launch_if_asked();
     let cli = Cli::parse();
     match run(cli.command) {
         Ok(code) => code,
@@ -840,6 +846,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
         Command::Class {
             submissions,
             out,
+            build_dir,
             timeout,
             budget,
             bonus,
@@ -855,15 +862,16 @@ fn run(command: Command) -> Result<ExitCode, String> {
             }
             // Absolute: cargo runs in the scratch copy, not here.
             let here = std::env::current_dir().map_err(|e| e.to_string())?;
-            let target = std::env::var_os("CARGO_TARGET_DIR")
-                .map(|t| here.join(t))
-                .unwrap_or_else(|| lab_root().join("target").join("class"));
             let options = reference::class::Options {
                 timeout,
                 budget,
                 bonus,
+                build_dir: build_dir.map(|d| here.join(d)),
+                // This program: its main starts the build launcher.
+                launcher: std::env::current_exe().map_err(|e| e.to_string())?,
+                build_memory: grader::build_sandbox::DEFAULT_MEMORY,
+                build_seconds: None,
                 fresh: !no_fresh,
-                target,
                 progress: !quiet,
             };
             let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;

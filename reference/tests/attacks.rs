@@ -508,14 +508,7 @@ fn grade_class(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
     std::fs::create_dir_all(dir.join("submissions")).unwrap();
     std::fs::write(dir.join("submissions").join(format!("{name}.rs")), lib_rs).unwrap();
     let root = reference::lab_root();
-    let options = reference::class::Options {
-        timeout: 2.0,
-        budget: 120.0,
-        bonus: false,
-        fresh: true,
-        target: root.join("target/ta-tests"),
-        progress: false,
-    };
+    let options = class_options(2.0, 120.0);
     let rows =
         reference::class::grade_class(&root, &dir.join("submissions"), &dir.join("out"), &options)
             .unwrap();
@@ -532,10 +525,8 @@ fn read(path: &Path) -> String {
 #[test]
 fn the_compiler_reads_no_hidden_answer() {
     // The hidden cases are not in the copy the student's crate is compiled
-    // in, so the include fails and so does the build, TA file and all.
-    // (A TA file alone, by absolute path, still compiles in class grading
-    // run as the TA: docs/ta-guide.md says to grade as a separate user.
-    // On Gradescope the build runs as nobody.)
+    // in, and the build is locked in: it may read no file of the TA's, by
+    // any path, even when the TA grades as themselves.
     // A file only the TA may read, named by its absolute path.
     let secret = scratch_file("ta-secret");
     std::fs::write(&secret, "TA-SECRET-TOKEN").unwrap();
@@ -564,8 +555,12 @@ fn leak() -> ! {
     assert!(lib_rs.contains("    leak();"), "the stubs changed shape");
     let (row, log) = grade_class("leaker", &lib_rs);
     std::fs::remove_file(&secret).unwrap();
-    // Refused at compile time, or compiled blind: either way nothing shows.
+    // Refused at compile time: nothing shows.
     assert!(!log.is_empty(), "no log for {row:?}");
+    assert_eq!(row.status, "does not compile", "{row:?}");
+    assert_eq!(row.score, 0.0, "{row:?}");
+    let denied = format!("couldn't read `{}`: Permission denied", secret.display());
+    assert!(log.contains(&denied), "{log}");
     let leaked: Vec<&str> = log
         .lines()
         .filter(|l| l.contains("LEAKED"))

@@ -90,6 +90,55 @@ fn embedding(path: &str) -> String {
         )
 }
 
+/// The model solution that also embeds, at compile time, what the Rust
+/// expression `source` names (`include_str!(source)`); `bytes` for
+/// `include_bytes!`.
+fn embedding_expr(source: &str, bytes: bool) -> String {
+    let (kind, ty) = if bytes {
+        ("include_bytes", "[u8]")
+    } else {
+        ("include_str", "str")
+    };
+    solution()
+        + &format!(
+            "\npub static EMBEDDED: &{ty} = {kind}!({source});\n\
+             pub fn embedded_len() -> usize {{ EMBEDDED.len() }}\n"
+        )
+}
+
+/// The model solution with an 8 GiB array computed at compile time.
+fn memory_bomb() -> String {
+    solution() + "\npub static HUGE: [u8; 1 << 33] = [1; 1 << 33];\n"
+}
+
+/// A file of the TA's own (in their home folder), holding `token`; removed
+/// when dropped.
+struct TaFile(PathBuf);
+
+impl TaFile {
+    fn new(token: &str) -> TaFile {
+        let home = PathBuf::from(std::env::var_os("HOME").expect("HOME"));
+        let path = home.join(format!(".meshlab-ta-test-{}", std::process::id()));
+        std::fs::write(&path, token).unwrap();
+        TaFile(path)
+    }
+}
+
+impl Drop for TaFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+/// Every report file in `dir`, concatenated.
+fn all_reports(dir: &Path) -> String {
+    let mut text = String::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        text += &std::fs::read_to_string(entry.unwrap().path()).unwrap_or_default();
+    }
+    text
+}
+
 /// The first hidden case's file name.
 fn a_hidden_case() -> String {
     let first = case_files("hidden")
@@ -424,30 +473,14 @@ fn workflow_steps(path: &Path) -> Vec<(String, String)> {
     serde_json::from_slice::<Vec<(String, String)>>(&out.stdout).unwrap()
 }
 
-/// Whether every folder above `path` lets other users through (user
-/// `nobody` must reach the lab and the target folder).
-fn searchable_by_others(path: &Path) -> bool {
-    use std::os::unix::fs::PermissionsExt;
-    path.ancestors()
-        .filter(|p| p.exists())
-        .all(|p| std::fs::metadata(p).is_ok_and(|m| m.permissions().mode() & 0o001 != 0))
-}
-
 /// Gradescope's /autograder for the tests (outside the lab, as a bundle
-/// must be), and the build's target folder (under `target/`, unless user
-/// `nobody` cannot reach it there). Both at fixed paths for this checkout,
-/// so that the build's dependencies, whose fingerprints hold the vendored
-/// sources' path, compile only once.
+/// must be), and the build's target folder (outside the lab too, as the
+/// build's must be: its path is visible to the student's code). Both at
+/// fixed paths for this checkout, so that the build's dependencies, whose
+/// fingerprints hold the vendored sources' path, compile only once.
 fn gradescope_places() -> (PathBuf, PathBuf) {
-    use std::hash::{DefaultHasher, Hash, Hasher};
-    let mut hasher = DefaultHasher::new();
-    root().hash(&mut hasher);
-    let tmp = std::env::temp_dir().join(format!("meshlab-ta-tests-{:016x}", hasher.finish()));
-    let mut target = root().join("target/ta-tests-gradescope");
-    if is_root() && !searchable_by_others(&target) {
-        target = tmp.join("target");
-    }
-    (tmp.join("autograder"), target)
+    let tmp = class_build_dir().parent().unwrap().to_path_buf();
+    (tmp.join("autograder"), tmp.join("target"))
 }
 
 #[test]
@@ -544,7 +577,9 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         } else {
             Command::new(ag.join("run_autograder"))
         };
-        cmd.env("AUTOGRADER", &ag);
+        // A secret in the grading machine's environment, for the build to miss.
+        cmd.env("AUTOGRADER", &ag)
+            .env("MESHLAB_TA_SECRET", "TA-ENV-TOKEN");
         if let Some((budget, timeout)) = limits {
             cmd.env("MESHLAB_BUDGET", budget.to_string())
                 .env("MESHLAB_CASE_TIMEOUT", timeout.to_string());
@@ -589,6 +624,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         .iter()
         .filter(|t| t["visibility"] != "after_published")
         .all(|t| !t["name"].as_str().unwrap().contains("hidden")));
+    // No bonus case (some grid cases are lab cases now: named by file).
     assert!(
         !tests
             .iter()
@@ -690,20 +726,36 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     );
     assert_eq!(control["score"].as_f64(), Some(max), "{log}\n{control}");
     // ... and by the absolute path of the folder they moved to (published
-    // with this bundle): the build runs as nobody, who may not enter it.
-    // Run by another user, the build runs as that user, who may: only the
-    // relative paths are checked then.
+    // with this bundle): root only, and out of the locked-in build's reach,
+    // whoever runs it.
     let absolute = grading.join("hidden").join(&hidden_case);
-    if is_root() {
-        let (leak, _, log) = grade(&[("lib.rs", embedding(absolute.to_str().unwrap()))], None);
+    let (leak, _, log) = grade(&[("lib.rs", embedding(absolute.to_str().unwrap()))], None);
+    does_not_compile(&leak, &log, "Permission denied");
+    // ... by the path from the build's own target folder (in
+    // CARGO_TARGET_DIR at compile time), which leads nowhere...
+    let from_target =
+        format!("concat!(env!(\"CARGO_TARGET_DIR\"), \"/../../fixtures/hidden/{hidden_case}\")");
+    let (leak, _, log) = grade(&[("lib.rs", embedding_expr(&from_target, false))], None);
+    does_not_compile(&leak, &log, "No such file or directory");
+    // ... and files of the machine's that anyone may read: the TA's own
+    // lab with its hidden cases and model solution, the environment.
+    for path in [
+        root().join("fixtures/hidden").join(&hidden_case),
+        root().join("reference/src/solution.rs"),
+        PathBuf::from("/proc/self/environ"),
+    ] {
+        let (leak, _, log) = grade(&[("lib.rs", embedding(path.to_str().unwrap()))], None);
         does_not_compile(&leak, &log, "Permission denied");
-    } else {
-        eprintln!(
-            "not root: the build runs as this user, so embedding {} by its absolute \
-             path is not checked",
-            absolute.display()
-        );
+        assert!(log.contains("Landlock ABI"), "{log}");
     }
+    // 8 GiB computed by the compiler: stopped by the memory cap, named.
+    let (bomb, _, log) = grade(&[("lib.rs", memory_bomb())], None);
+    assert_eq!(bomb["score"].as_f64(), Some(0.0), "{log}\n{bomb}");
+    let output = bomb["output"].as_str().unwrap();
+    assert!(
+        output.starts_with("Your code does not compile: the build used more than 4 GiB"),
+        "{output}"
+    );
 
     // A symbolic link in the upload is never followed: root copies the
     // student's file, and the compiler would quote a hidden case's lines.
@@ -721,6 +773,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         took < Duration::from_secs(budget as u64 + 10),
         "{took:?}\n{log}"
     );
+    assert!(!log.contains("TA-ENV-TOKEN"), "{log}");
     let tests = tests_of(&bad);
     let earned = |function: &str| {
         tests
@@ -810,14 +863,45 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     std::fs::create_dir_all(subs.join("heidi/crates/meshedit/src")).unwrap();
     std::os::unix::fs::symlink(&hidden_file, subs.join("heidi/crates/meshedit/src/lib.rs"))
         .unwrap();
+    // At compile time, run as the TA themselves: the hidden case by the
+    // path from the build's own target folder, by the lab's absolute path,
+    // a file in the TA's home, /dev/zero, and 8 GiB computed by the
+    // compiler. Each is refused or stopped, and scores as a compile error.
+    write(
+        &subs.join("ivan.rs"),
+        &embedding_expr(
+            &format!(
+                "concat!(env!(\"CARGO_TARGET_DIR\"), \"/../../fixtures/hidden/{hidden_case}\")"
+            ),
+            false,
+        ),
+    );
+    // The previous student's program, left in the shared target folder
+    // (frank's, built just before): removed before each build.
+    write(
+        &subs.join("frankie.rs"),
+        &embedding_expr(
+            "concat!(env!(\"CARGO_TARGET_DIR\"), \"/debug/grader-child\")",
+            true,
+        ),
+    );
+    let lab_hidden = root().join("fixtures/hidden").join(&hidden_case);
+    write(
+        &subs.join("judy.rs"),
+        &embedding(lab_hidden.to_str().unwrap()),
+    );
+    let ta_token = format!("TA-HOME-TOKEN-{}", std::process::id());
+    let ta_file = TaFile::new(&ta_token);
+    write(
+        &subs.join("ken.rs"),
+        &embedding(ta_file.0.to_str().unwrap()),
+    );
+    write(&subs.join("leo.rs"), &embedding_expr("\"/dev/zero\"", true));
+    write(&subs.join("mia.rs"), &memory_bomb());
     let out = dir.join("out");
     let options = reference::class::Options {
-        timeout: 1.0,
         budget: 60.0,
-        bonus: false,
-        fresh: true,
-        target: target(),
-        progress: false,
+        ..class_options(1.0, 8.0)
     };
     let start = Instant::now();
     let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
@@ -833,9 +917,15 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             "dave",
             "eve",
             "frank",
+            "frankie",
             "grace",
             "heidi",
+            "ivan",
+            "judy",
+            "ken",
+            "leo",
             "mallory",
+            "mia",
             "notes.txt"
         ]
     );
@@ -914,6 +1004,43 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         .first_failure
         .contains("no crates/meshedit/src/lib.rs inside"));
     assert_eq!(row("notes.txt").status, "no submission");
+    // The compile-time attacks: no more than a compile error, named.
+    let refused = |name: &str, why: &str| {
+        let r = row(name);
+        let log = std::fs::read_to_string(out.join(format!("{name}.log"))).unwrap();
+        assert_eq!(
+            (r.score, r.max, r.status.as_str()),
+            (0.0, max, "does not compile"),
+            "{r:?}\n{log}"
+        );
+        assert!(log.contains(why), "{name}: {why:?} not in\n{log}");
+        assert!(
+            log.contains("build protections: Landlock ABI"),
+            "{name}: the build was not locked in:\n{log}"
+        );
+    };
+    refused("ivan", "No such file or directory");
+    refused("frankie", "debug/grader-child`: No such file or directory");
+    refused(
+        "judy",
+        &format!(
+            "couldn't read `{}`: Permission denied",
+            lab_hidden.display()
+        ),
+    );
+    refused(
+        "ken",
+        &format!("couldn't read `{}`: Permission denied", ta_file.0.display()),
+    );
+    refused("leo", "couldn't read `/dev/zero`: Permission denied");
+    refused("mia", "the build used more than 4 GiB");
+    assert!(row("mia")
+        .first_failure
+        .contains("the build used more than 4 GiB"));
+    drop(ta_file);
+    let reports = all_reports(&out);
+    assert!(!reports.contains(&ta_token), "the TA's file leaked");
+    assert!(!reports.contains("\"expected\""), "a hidden case leaked");
     // Looping in loop_subdivide costs that function its points only: the
     // grader fits every run into the budget, so flips and splits count.
     let mallory = row("mallory");
@@ -947,7 +1074,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 12, "{csv}");
+    assert_eq!(csv.lines().count(), 18, "{csv}");
     // The student's name is made inert for spreadsheets; the CR is shown,
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
@@ -977,5 +1104,168 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{log}"
     );
     assert!(log.contains("    | \\u{1b}[2J\\u{d}grade.rs:1"), "{log}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn class_grading_keeps_the_ta_s_environment_from_the_build() {
+    let _turn = take_turn();
+    let dir = scratch("class-env");
+    let subs = dir.join("submissions");
+    // Run as the TA would, with a secret in their environment.
+    let token = format!("TA-ENV-TOKEN-{}", std::process::id());
+    write(
+        &subs.join("nina.rs"),
+        &embedding_expr("\"/proc/self/environ\"", false),
+    );
+    // option_env! compiles either way: the model solution, printing the
+    // variable if the build had it.
+    let printing = solution().replace(
+        "pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {\n",
+        "pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {\n    \
+         println!(\"{:?} {:?}\", option_env!(\"MESHLAB_TA_SECRET\"), option_env!(\"HOME\"));\n",
+    );
+    assert!(
+        printing.contains("option_env!"),
+        "the solution changed shape"
+    );
+    write(&subs.join("oscar.rs"), &printing);
+    let out = dir.join("out");
+    let build_dir = class_build_dir();
+    let r = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .args([
+            "class",
+            subs.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--timeout", "5", "--budget", "120", "-q", "--build-dir"])
+        .arg(&build_dir)
+        .env("MESHLAB_TA_SECRET", &token)
+        // As `cargo run -p reference -- class` runs it: the grader must not
+        // rebuild the student's crate outside the lock-in.
+        .env("CARGO", env!("CARGO"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    let max = counted("flip")
+        + counted("split")
+        + counted("subdivide")
+        + reference::fresh::counted(false).iter().sum::<usize>();
+    assert!(
+        csv.contains(&format!("\nnina,0,{max},does not compile,")),
+        "{csv}"
+    );
+    assert!(
+        csv.contains(&format!("\noscar,{max},{max},passed,")),
+        "{csv}"
+    );
+    let nina = std::fs::read_to_string(out.join("nina.log")).unwrap();
+    assert!(
+        nina.contains("couldn't read `/proc/self/environ`: Permission denied"),
+        "{nina}"
+    );
+    let oscar = std::fs::read_to_string(out.join("oscar.log")).unwrap();
+    // The variable never reached the build; HOME is the build's own.
+    let home = build_dir.join("target/home");
+    assert!(
+        oscar.contains(&format!("None Some({:?})", home.display().to_string())),
+        "{oscar}"
+    );
+    assert!(
+        !all_reports(&out).contains(&token),
+        "the TA's variable leaked"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_build_that_never_ends_is_stopped_and_named() {
+    let _turn = take_turn();
+    let dir = scratch("class-spin");
+    let subs = dir.join("submissions");
+    // A constant the compiler evaluates for ever (the lint that would stop
+    // it turned off).
+    let spinning = solution()
+        + "\n#[allow(long_running_const_eval)]\n\
+           pub const SPIN: u64 = { let mut i = 0u64; while i < u64::MAX { i += 1; } i };\n\
+           pub static KEEP: u64 = SPIN;\n";
+    write(&subs.join("pat.rs"), &spinning);
+    let out = dir.join("out");
+    let options = reference::class::Options {
+        build_seconds: Some(15.0),
+        ..class_options(1.0, 8.0)
+    };
+    let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
+    let pat = &rows[0];
+    let log = std::fs::read_to_string(out.join("pat.log")).unwrap();
+    assert_eq!(
+        (pat.score, pat.status.as_str()),
+        (0.0, "does not compile"),
+        "{pat:?}\n{log}"
+    );
+    assert_eq!(
+        pat.first_failure, "the build did not finish within 15 s",
+        "{log}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn without_landlock_dev_zero_meets_the_memory_cap_by_name() {
+    let _turn = take_turn();
+    // Where the kernel has no Landlock, /dev/zero is readable: the compiler
+    // reading it for ever must be stopped by the memory cap, and the
+    // build's end named, not left to the kernel's OOM killer.
+    let dir = scratch("build-zero");
+    let lab = dir.join("lab");
+    reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
+    write(
+        &lab.join("crates/meshedit/src/lib.rs"),
+        &embedding_expr("\"/dev/zero\"", true),
+    );
+    let sysroot = Command::new("rustc")
+        .args(["--print", "sysroot"])
+        .current_dir(&lab)
+        .output()
+        .unwrap();
+    let build_dir = class_build_dir();
+    assert!(
+        build_dir.join("vendor").is_dir(),
+        "the class tests vendor the dependencies"
+    );
+    let status = dir.join("status");
+    let build = grader::build_sandbox::Build {
+        lab: lab.clone(),
+        vendor: build_dir.join("vendor"),
+        sysroot: String::from_utf8_lossy(&sysroot.stdout).trim().into(),
+        // The class tests' target folder: the dependencies are compiled.
+        target: build_dir.join("target"),
+        memory: 2 << 30,
+        seconds: 600.0,
+        status: status.clone(),
+        drop_user: false,
+        landlock: false,
+    };
+    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .args(build.args())
+        .env_clear()
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let report = grader::build_sandbox::Report::read(&status).unwrap();
+    assert_eq!(
+        report.outcome,
+        grader::build_sandbox::Outcome::OutOfMemory,
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("the build used more than 2 GiB"),
+        "{stderr}"
+    );
+    assert!(report.protections().contains("Landlock off"), "{report:?}");
+    assert_ne!(out.status.code(), Some(0));
     std::fs::remove_dir_all(&dir).unwrap();
 }

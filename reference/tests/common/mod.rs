@@ -147,3 +147,31 @@ pub fn grade(implementation: &str, args: &[&str]) -> Graded {
         args,
     )
 }
+
+/// The folder class grading builds in for the tests (its `target/` and
+/// `vendor/`): outside the lab, as class grading requires, and at a fixed
+/// path for this checkout, so that the dependencies compile only once.
+pub fn class_build_dir() -> PathBuf {
+    use std::hash::{DefaultHasher, Hash, Hasher};
+    let mut hasher = DefaultHasher::new();
+    reference::lab_root().hash(&mut hasher);
+    std::env::temp_dir()
+        .join(format!("meshlab-ta-tests-{:016x}", hasher.finish()))
+        .join("class-build")
+}
+
+/// Class grading options for the tests: builds locked in by the reference
+/// binary, in [`class_build_dir`].
+pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
+    reference::class::Options {
+        timeout,
+        budget,
+        bonus: false,
+        build_dir: Some(class_build_dir()),
+        launcher: PathBuf::from(env!("CARGO_BIN_EXE_reference")),
+        build_memory: grader::build_sandbox::DEFAULT_MEMORY,
+        build_seconds: None,
+        fresh: true,
+        progress: false,
+    }
+}
