@@ -183,6 +183,7 @@ pub fn write(dir: &Path, seed: u64, weights: Weights) -> Result<usize, String> {
     }
     for group in [Group::Hidden, Group::Bonus] {
         let folder = dir.join(group.name());
+        std::fs::create_dir_all(&folder).map_err(|e| io(e, &folder))?;
         let mut files = Vec::new();
         for entry in std::fs::read_dir(&folder).map_err(|e| io(e, &folder))? {
             let path = entry.map_err(|e| io(e, &folder))?.path();

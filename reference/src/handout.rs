@@ -440,6 +440,26 @@ pub struct GradescopeOptions {
     pub budget: f64,
     /// Seconds one case may take at most.
     pub timeout: f64,
+    /// Sets of fresh cases the bundle carries (0: none); each upload is
+    /// graded on one, chosen from its bytes.
+    pub fresh_sets: usize,
+}
+
+/// The fresh-case sets of a bundle, in `dest/fresh/K/` (K = 0, 1, ...):
+/// the bundle carries no model solution, so the cases are made now, from
+/// seeds no one else has (drawn from the operating system's random
+/// source). `run_autograder` picks one per upload.
+fn write_fresh_sets(dest: &Path, sets: usize) -> Result<(), String> {
+    use std::hash::BuildHasher;
+    for k in 0..sets {
+        let seed = std::collections::hash_map::RandomState::new().hash_one(k);
+        crate::fresh::write(
+            &dest.join("fresh").join(k.to_string()),
+            seed,
+            crate::solution::Weights::Warren,
+        )?;
+    }
+    Ok(())
 }
 
 /// Writes a Gradescope autograder into `dest` (new or empty): its two
@@ -449,6 +469,7 @@ pub struct GradescopeOptions {
 pub fn gradescope(root: &Path, dest: &Path, options: GradescopeOptions) -> Result<(), String> {
     let version = rust_version(root)?;
     copy_lab(root, &dest.join("lab"), Purpose::Grading)?;
+    write_fresh_sets(dest, options.fresh_sets)?;
     let setup = include_str!("../gradescope/setup.sh").replace("@RUST_VERSION@", &version);
     let run = include_str!("../gradescope/run_autograder")
         .replace("@BUDGET@", &options.budget.to_string())

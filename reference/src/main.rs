@@ -215,6 +215,11 @@ enum Command {
         /// Seconds each case may take at most (less when the budget is short).
         #[arg(long, default_value_t = 10.0)]
         timeout: f64,
+        /// Sets of fresh cases (random meshes nobody has seen) the bundle
+        /// carries; each upload is graded on one, chosen from its bytes
+        /// (0: none).
+        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(0..=256))]
+        fresh_sets: u16,
     },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
@@ -810,6 +815,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             bonus,
             budget,
             timeout,
+            fresh_sets,
         } => {
             for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
                 if !(value > 0.0 && value <= 86_400.0) {
@@ -825,6 +831,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 bonus,
                 budget,
                 timeout,
+                fresh_sets: usize::from(fresh_sets),
             };
             handout::gradescope(&lab_root(), &dir, options)?;
             println!(

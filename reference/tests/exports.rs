@@ -491,7 +491,8 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let (ag, build_target) = gradescope_places();
     let _ = std::fs::remove_dir_all(&ag);
     let bundle = ag.join("source");
-    let r = run(&["gradescope", bundle.to_str().unwrap()]);
+    // Four sets of fresh cases keep the bundle small here (16 by default).
+    let r = run(&["gradescope", bundle.to_str().unwrap(), "--fresh-sets", "4"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
     let lab = bundle.join("lab");
     assert!(lab.join("fixtures/hidden").is_dir(), "hidden cases graded");
@@ -554,7 +555,10 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         }
     }
 
-    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
+    // Each upload is also graded on one of the bundle's sets of fresh cases,
+    // counted like hidden ones.
+    let fresh: usize = reference::fresh::counted(false).iter().sum();
+    let max = (counted("flip") + counted("split") + counted("subdivide") + fresh) as f64;
     // An upload of these files and symbolic links (path, target), graded
     // with a budget and a per-call limit when given, on one CPU when asked
     // (Gradescope's default machine has one).
@@ -619,7 +623,20 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         .iter()
         .filter(|t| t["visibility"] == "after_published")
         .count();
-    assert_eq!(hidden, case_files("hidden").len());
+    assert_eq!(hidden, case_files("hidden").len() + fresh);
+    let fresh_tests: Vec<&str> = tests
+        .iter()
+        .filter_map(|t| t["name"].as_str())
+        .filter(|n| n.starts_with("fresh-"))
+        .collect();
+    assert_eq!(fresh_tests.len(), fresh, "{fresh_tests:?}");
+    let set_of = |log: &str| {
+        log.lines()
+            .find_map(|l| l.split("fresh cases: set ").nth(1))
+            .map(|rest| rest.split_whitespace().next().unwrap_or("").to_string())
+            .unwrap_or_else(|| panic!("no fresh set named: {log}"))
+    };
+    let good_set = set_of(&log);
     assert!(tests
         .iter()
         .filter(|t| t["visibility"] != "after_published")
@@ -656,8 +673,10 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         .iter()
         .map(|(p, t)| (p.as_str(), t.clone()))
         .collect();
-    let (nest, _, _) = grade(&nested, None);
+    let (nest, _, nest_log) = grade(&nested, None);
     assert_eq!(nest["score"].as_f64(), Some(max), "{nest}");
+    // The same file, uploaded again in another layout: the same fresh set.
+    assert_eq!(set_of(&nest_log), good_set, "{nest_log}");
 
     // The stubs: zero, every case reported.
     let (stub, _, _) = grade(&[("crates/meshedit/src/lib.rs", stubs())], None);
