@@ -446,3 +446,64 @@ fn touch(path: &Path) -> Result<(), String> {
     file.set_modified(std::time::SystemTime::now())
         .map_err(|e| format!("{}: {e}", path.display()))
 }
+
+/// `bench --peers`: writes the icospheres of `levels` as OBJ into `dir`, the
+/// files `reference/bench/peers/run.sh` gives every library.
+pub fn write_peer_inputs(levels: &[usize], dir: &Path) -> Result<ExitCode, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for &level in levels {
+        let path = dir.join(format!("icosphere-{level}.obj"));
+        halfedge::shapes::icosphere(level)
+            .write_obj_file(&path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("{}", path.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The CPU time of the whole process, in milliseconds, as the peers' drivers
+/// read it (`CLOCK_PROCESS_CPUTIME_ID`: every thread, should one start any).
+fn process_cpu_ms() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec, which `ts` is.
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 * 1e3 + ts.tv_nsec as f64 * 1e-6
+}
+
+/// The most memory this process has held in RAM, in kB (`ru_maxrss`).
+fn max_rss_kb() -> i64 {
+    // SAFETY: getrusage writes one rusage, which `usage` is; zeroed is a
+    // valid value of that plain C struct.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) };
+    usage.ru_maxrss
+}
+
+/// `bench --peers --peer-obj FILE --rounds N`: the reference's driver in the
+/// peers' comparison. Reads `file` (not timed), then times `rounds` calls of
+/// `solution::loop_subdivide`, once, and prints the line every driver prints
+/// (`wall_ms= cpu_ms= faces= maxrss_kb=`) plus the peak heap bytes per
+/// output face.
+pub fn peer_run(file: &Path, rounds: usize) -> Result<ExitCode, String> {
+    // As `bench` counts: the peak above what was in use before the input
+    // mesh existed, so the mesh itself and every temporary.
+    let before = in_use();
+    let mut mesh = Mesh::from_obj_file(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    reset_peak();
+    let (start, cpu) = (Instant::now(), process_cpu_ms());
+    for _ in 0..rounds {
+        solution::loop_subdivide(&mut mesh);
+    }
+    let cpu = process_cpu_ms() - cpu;
+    let wall = start.elapsed().as_secs_f64() * 1e3;
+    let faces = mesh.num_real_faces();
+    println!(
+        "wall_ms={wall:.3} cpu_ms={cpu:.3} faces={faces} maxrss_kb={} heap_b_per_face={:.0}",
+        max_rss_kb(),
+        (peak() - before) as f64 / faces as f64
+    );
+    Ok(ExitCode::SUCCESS)
+}

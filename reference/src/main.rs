@@ -263,6 +263,18 @@ enum Command {
         /// Leave out edit -> verdict (it runs cargo on the lab's workspace).
         #[arg(long)]
         no_edit: bool,
+        /// The reference's side of the peers' comparison
+        /// (reference/bench/peers/run.sh): write the --levels icospheres as
+        /// OBJ to --obj-dir and stop, or, with --peer-obj, time one call.
+        #[arg(long)]
+        peers: bool,
+        /// With --peers: read this OBJ, time `loop_subdivide` for --rounds
+        /// rounds once, print one line of figures.
+        #[arg(long, value_name = "FILE", requires = "peers")]
+        peer_obj: Option<PathBuf>,
+        /// Rounds for --peer-obj.
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=4))]
+        rounds: u64,
     },
 }
 
@@ -802,14 +814,27 @@ fn run(command: Command) -> Result<ExitCode, String> {
             obj_dir,
             no_grade,
             no_edit,
-        } => bench::run(&bench::Options {
-            runs: runs as usize,
-            levels: levels.into_iter().map(|l| l as usize).collect(),
-            torus: !no_torus,
-            obj_dir: obj_dir.unwrap_or_else(|| lab_root().join("target").join("bench-meshes")),
-            grade: !no_grade,
-            edit: !no_edit,
-        }),
+            peers,
+            peer_obj,
+            rounds,
+        } => {
+            let obj_dir = obj_dir.unwrap_or_else(|| lab_root().join("target").join("bench-meshes"));
+            let levels: Vec<usize> = levels.into_iter().map(|l| l as usize).collect();
+            if let Some(file) = peer_obj {
+                return bench::peer_run(&file, rounds as usize);
+            }
+            if peers {
+                return bench::write_peer_inputs(&levels, &obj_dir);
+            }
+            bench::run(&bench::Options {
+                runs: runs as usize,
+                levels,
+                torus: !no_torus,
+                obj_dir,
+                grade: !no_grade,
+                edit: !no_edit,
+            })
+        }
         Command::Gradescope {
             dir,
             bonus,
