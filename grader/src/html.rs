@@ -1212,6 +1212,11 @@ fn operation(f: &Fixture) -> String {
         }
         Operation::Subdivide { rounds: 1 } => format!("{function} on {}, 1 round", f.object),
         Operation::Subdivide { rounds } => format!("{function} on {}, {rounds} rounds", f.object),
+        Operation::Sequence { seed } => format!(
+            "{} flips and splits on {} (seed {seed})",
+            f.steps.len(),
+            f.object
+        ),
     }
 }
 
@@ -1334,7 +1339,7 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } => {
             id(a).zip(id(b)).map(|(a, b)| pair(a, b))
         }
-        Operation::Subdivide { .. } => None,
+        Operation::Subdivide { .. } | Operation::Sequence { .. } => None,
     };
     let mut marks_input = Marks {
         focus_edges: case_edge.into_iter().collect(),

@@ -75,6 +75,8 @@ pub enum Format {
 pub enum StageArg {
     Flip,
     Split,
+    /// Flips and splits in sequence.
+    Sequence,
     Subdivide,
 }
 
@@ -83,6 +85,7 @@ impl StageArg {
         match self {
             StageArg::Flip => Stage::Flip,
             StageArg::Split => Stage::Split,
+            StageArg::Sequence => Stage::Sequence,
             StageArg::Subdivide => Stage::Subdivide,
         }
     }
@@ -435,10 +438,30 @@ fn grade_case(
             (Operation::Subdivide { rounds }, _) => wire::Op::Subdivide {
                 rounds: rounds as u32,
             },
+            (Operation::Sequence { .. }, _) => wire::Op::Sequence,
             _ => return Err(format!("{}: the case's edge was lost", f.name)),
         };
+        // Input vertices by their id in this labelling; a split's vertex
+        // keeps its name past them (the child resolves it).
+        let n = l.vertices.len();
+        let name = |v: usize| {
+            if v < n {
+                l.vertices[v].0
+            } else {
+                v as u32
+            }
+        };
+        let steps = f
+            .steps
+            .iter()
+            .map(|s| wire::WireStep {
+                split: s.is_split(),
+                ends: s.edge().map(name),
+            })
+            .collect();
         let request = wire::Request {
             op,
+            steps,
             budget: budget as u64,
             mesh: l.mesh.clone(),
         };
@@ -456,10 +479,14 @@ fn grade_case(
         let mut result = None;
         let run = match raw.exit {
             Exit::Finished(ran) => {
-                if let wire::Ran::Returned { mesh, .. } = &ran {
+                if let wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } = &ran {
                     result = Some(mesh.clone());
                 }
-                Run::Done(child::analyze(op, &l.mesh, ran))
+                let mut outcome = child::analyze(op, &l.mesh, ran);
+                if let child::Outcome::Sequence { steps, .. } = &mut outcome {
+                    to_input_names(steps, &l.vertices);
+                }
+                Run::Done(outcome)
             }
             Exit::TimedOut(d) => Run::TimedOut(d),
             Exit::StuckBeforeCall(d) => Run::StuckBeforeCall(d),
@@ -500,6 +527,33 @@ fn grade_case(
         first.get_or_insert(report);
     }
     first.ok_or_else(|| format!("{}: no labelling ran", f.name))
+}
+
+/// The child names a sequence's input vertices by their ids in the
+/// labelling sent (and split vertices past them): back to input indices,
+/// the fixture's names.
+fn to_input_names(steps: &mut [wire::StepRan], vertices: &[halfedge::VertexId]) {
+    let mut input = vec![0; vertices.len()];
+    for (i, v) in vertices.iter().enumerate() {
+        input[v.index()] = i as u32;
+    }
+    let name = |x: &mut u32| {
+        if let Some(&i) = input.get(*x as usize) {
+            *x = i;
+        }
+    };
+    for s in steps {
+        match &mut s.answer {
+            wire::StepAnswer::Edge {
+                ends: Some([a, b]), ..
+            } => {
+                name(a);
+                name(b);
+            }
+            wire::StepAnswer::Vertex { name: Some(v), .. } => name(v),
+            _ => {}
+        }
+    }
 }
 
 /// Grades every case, two or more side by side (one per core, at most
@@ -595,6 +649,7 @@ fn partial_run(cli: &Cli) -> Option<String> {
             match stage {
                 StageArg::Flip => "flip",
                 StageArg::Split => "split",
+                StageArg::Sequence => "sequence",
                 StageArg::Subdivide => "subdivide",
             }
         )),
