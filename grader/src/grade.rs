@@ -463,13 +463,20 @@ fn judge_sequence(
     for (i, (step, want)) in f.steps.iter().zip(&f.expected.steps).enumerate() {
         let function = step.function();
         let [a, b] = step.edge();
-        let at = format!("after {i} operations (seed {seed}), {function} on edge {a}-{b}");
+        let done = format!(
+            "after {i} operation{} (seed {seed})",
+            if i == 1 { "" } else { "s" }
+        );
+        let at = format!("{done}, {function} on edge {a}-{b}");
         let Some(got) = steps.get(i) else {
             if let Some((message, location)) = panic {
-                quote!(log, Warn, message.as_str(), "{at} panicked:");
+                // Worded as for one operation, so that a panic every case
+                // shares is one line in the summary; where it came follows.
+                quote!(log, Warn, message.as_str(), "{function} panicked:");
                 if let Some(loc) = location {
                     quote!(log, Detail, loc.as_str(), "at");
                 }
+                say!(log, Detail, "{at} (step {} of {})", i + 1, f.steps.len());
                 if message.starts_with("not yet implemented") {
                     say!(log, Detail, "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs");
                 } else {
@@ -484,7 +491,7 @@ fn judge_sequence(
             say!(
                 log,
                 Warn,
-                "after {i} operations (seed {seed}), vertices {a} and {b} are not joined by an edge, but they must be: an earlier operation relinked the wrong vertices"
+                "{done}, vertices {a} and {b} are not joined by an edge, but they must be: an earlier operation relinked the wrong vertices"
             );
             return;
         }
