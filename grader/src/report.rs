@@ -376,7 +376,11 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
             output.push_str("your code printed:\n");
             output.push_str(&c.output.block_limited("", GRADESCOPE_OUTPUT_LINES));
         }
-        let function = c.stage.function();
+        // A sequence is its own stage: its label names no single function.
+        let function = match c.stage {
+            Stage::Sequence => "flips and splits in sequence",
+            s => s.function(),
+        };
         let (name, visibility, tags) = match c.group {
             Group::Lab => (
                 format!("{} ({function})", c.name),

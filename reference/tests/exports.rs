@@ -503,7 +503,8 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         }
     }
 
-    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64;
+    let max =
+        (counted("flip") + counted("split") + counted("sequence") + counted("subdivide")) as f64;
     // An upload of these files and symbolic links (path, target), graded
     // with a budget and a per-call limit when given, on one CPU when asked
     // (Gradescope's default machine has one).
@@ -824,7 +825,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
     // Each submission also gets its fresh cases, counted like hidden ones.
     let fresh = reference::fresh::counted(false);
-    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64
+    let max = (counted("flip") + counted("split") + counted("sequence") + counted("subdivide"))
+        as f64
         + fresh.iter().sum::<usize>() as f64;
 
     assert_eq!((row("alice").score, row("alice").max), (0.0, max));
@@ -902,7 +904,11 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert_eq!(mallory.status, "failed", "{mallory:?}");
     assert_eq!(mallory.functions[0], (counted("flip"), counted("flip")));
     assert_eq!(mallory.functions[1], (counted("split"), counted("split")));
-    assert_eq!(mallory.functions[2].0, 0, "{mallory:?}");
+    assert_eq!(
+        mallory.functions[2],
+        (counted("sequence"), counted("sequence"))
+    );
+    assert_eq!(mallory.functions[3].0, 0, "{mallory:?}");
     assert!(mallory.seconds < 60.0, "{mallory:?}");
     assert!(took < Duration::from_secs(180), "{took:?}");
 
@@ -918,7 +924,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     }
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert!(csv.starts_with(
-        "student,score,max_score,status,flip_edge,split_edge,loop_subdivide,first_failure\n"
+        "student,score,max_score,status,flip_edge,split_edge,in_sequence,loop_subdivide,first_failure\n"
     ));
     assert!(
         csv.contains(&format!("\ncarol,0,{max},does not compile,0/")),
