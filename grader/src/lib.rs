@@ -331,6 +331,18 @@ impl<'a> Case<'a> {
             labellings,
         }
     }
+
+    /// The student calls one run of the case makes: a sequence's run calls
+    /// once per step, so its time limit and its share of a budget are
+    /// counted in calls.
+    fn calls(&self) -> usize {
+        self.fixture.steps.len().max(1)
+    }
+
+    /// Calls over every labelling.
+    fn runs(&self) -> usize {
+        self.labellings.len() * self.calls()
+    }
 }
 
 /// How many cases run side by side: one per core, at most four.
@@ -397,8 +409,8 @@ impl Plan {
     }
 
     fn of(cases: &[Case], cli: &Cli) -> Plan {
-        let runs = cases.iter().map(|c| c.labellings.len()).sum();
-        let longest = cases.iter().map(|c| c.labellings.len()).max().unwrap_or(0);
+        let runs = cases.iter().map(Case::runs).sum();
+        let longest = cases.iter().map(Case::runs).max().unwrap_or(0);
         Plan::new(runs, longest, workers(cases.len()), cli.timeout, cli.budget)
     }
 
@@ -592,7 +604,7 @@ fn grade_all(
                 let limit = match &earlier {
                     Some(_) => timeout.min(SHORT_LIMIT),
                     None => timeout,
-                };
+                } * case.calls() as f64;
                 let mut status = None;
                 let result = grade_case(
                     case,
@@ -721,7 +733,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                     "name": c.fixture.name,
                     "group": c.fixture.group,
                     "stage": c.fixture.operation.stage(),
-                    "runs": c.labellings.len(),
+                    "runs": c.runs(),
                 })
             })
             .collect();

@@ -284,6 +284,7 @@ fn autograding_json(fixtures: &Path) -> String {
     for (stage, function, kind) in [
         ("flip", "flip_edge", "flip"),
         ("split", "split_edge", "split"),
+        ("sequence", "flips and splits in sequence", "sequence"),
         ("subdivide", "loop_subdivide", "subdivide"),
     ] {
         let points = std::fs::read_dir(fixtures.join("lab"))
