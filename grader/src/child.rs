@@ -18,7 +18,7 @@ use std::panic::{self, AssertUnwindSafe};
 use halfedge::{EdgeId, Mesh, VertexId};
 use serde::{Deserialize, Serialize};
 
-use crate::wire::{self, Answer, Op, Ran, Request};
+use crate::wire::{self, Answer, Op, Ran, Request, StepAnswer, StepRan, WireStep};
 use crate::Implementation;
 
 /// Element counts: vertices, edges, faces (with holes), halfedges.
@@ -110,6 +110,18 @@ pub enum Outcome {
         message: String,
         location: Option<String>,
     },
+    /// A sequence: what each step that ran did (the child stops at the
+    /// first step that leaves an invalid mesh, panics or names two vertices
+    /// no edge joins), and the mesh the last one left, read as for one
+    /// operation.
+    Sequence {
+        steps: Vec<StepRan>,
+        panic: Option<(String, Option<String>)>,
+        before: Counts,
+        after: Counts,
+        invalid: Option<String>,
+        mesh: Option<Box<MeshResult>>,
+    },
 }
 
 thread_local! {
@@ -165,10 +177,118 @@ pub fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, (String, Option<String>)> 
     })
 }
 
+/// Runs a sequence's steps on `mesh`, checking it after each (vertices in
+/// the answers named as in [`WireStep`]: the parent maps them back to the
+/// fixture's names): a broken
+/// mesh ends the sequence there, as the next step would only walk the
+/// broken links and panic far from the mistake.
+fn run_sequence(
+    mesh: &mut Mesh,
+    steps: &[WireStep],
+    imp: &Implementation,
+) -> (Vec<StepRan>, Option<(String, Option<String>)>) {
+    let n = mesh.num_vertices() as u32;
+    // made[k]: the vertex the k-th split returned.
+    let mut made: Vec<VertexId> = Vec::new();
+    let mut out = Vec::new();
+    let name_of = |v: VertexId, made: &[VertexId]| -> Option<u32> {
+        if v.0 < n {
+            return Some(v.0);
+        }
+        made.iter().position(|&m| m == v).map(|k| n + k as u32)
+    };
+    let counts = |m: &Mesh| {
+        let c = Counts::of(m);
+        [c.vertices, c.edges, c.faces, c.halfedges].map(|x| x as u32)
+    };
+    for step in steps {
+        let resolve = |x: u32| {
+            if x < n {
+                Some(VertexId(x))
+            } else {
+                made.get((x - n) as usize).copied()
+            }
+        };
+        let edge = match (resolve(step.ends[0]), resolve(step.ends[1])) {
+            (Some(a), Some(b))
+                if a.index() < mesh.num_vertices() && b.index() < mesh.num_vertices() =>
+            {
+                mesh.edge_between(a.index(), b.index())
+            }
+            _ => None,
+        };
+        let Some(e) = edge else {
+            out.push(StepRan {
+                edge: None,
+                answer: StepAnswer::Nothing,
+                counts: counts(mesh),
+                valid: true,
+            });
+            break;
+        };
+        let vertices_before = mesh.num_vertices();
+        let ran = guarded(|| {
+            if step.split {
+                (imp.split_edge)(mesh, e).map(Answer::Vertex)
+            } else {
+                (imp.flip_edge)(mesh, e).map(Answer::Edge)
+            }
+        });
+        let answer = match ran {
+            Ok(a) => a,
+            Err(panic) => return (out, Some(panic)),
+        };
+        // The checks walk what the student's code left: a panic in them is
+        // a broken mesh, not the student's panic.
+        let valid =
+            guarded(|| non_finite(mesh).is_none() && mesh.validate().is_ok()).unwrap_or(false);
+        let answer = match answer {
+            None => StepAnswer::Nothing,
+            Some(Answer::Edge(got)) => StepAnswer::Edge {
+                id: got.0,
+                ends: (valid && got.index() < mesh.num_edges())
+                    .then(|| {
+                        let (a, b) = mesh.edge_vertices(got);
+                        Some([name_of(a, &made)?, name_of(b, &made)?])
+                    })
+                    .flatten(),
+            },
+            Some(Answer::Vertex(v)) => {
+                let known = v.index() < mesh.num_vertices();
+                // A vertex made by this split takes the next name.
+                let name = name_of(v, &made).or_else(|| {
+                    (known && v.index() >= vertices_before).then_some(n + made.len() as u32)
+                });
+                made.push(v);
+                StepAnswer::Vertex {
+                    name: if known { name } else { None },
+                    position: known.then(|| mesh[v].pos.to_array()),
+                }
+            }
+            Some(_) => StepAnswer::Nothing,
+        };
+        out.push(StepRan {
+            edge: Some(e.0),
+            answer,
+            counts: counts(mesh),
+            valid,
+        });
+        if !valid {
+            break;
+        }
+    }
+    (out, None)
+}
+
 /// Runs the request's operation on its mesh with `imp`.
 pub fn run_request(req: Request, imp: &Implementation) -> Ran {
     let mut mesh = req.mesh;
     halfedge::mesh::set_process_element_budget(Some(req.budget as usize));
+    if req.op == Op::Sequence {
+        let (steps, panic) = run_sequence(&mut mesh, &req.steps, imp);
+        halfedge::mesh::set_process_element_budget(None);
+        return Ran::Sequence { steps, mesh, panic };
+    }
     let ran = guarded(|| match req.op {
         Op::Flip(e) => match (imp.flip_edge)(&mut mesh, e) {
             None => Answer::Nothing,
@@ -178,6 +298,7 @@ pub fn run_request(req: Request, imp: &Implementation) -> Ran {
             None => Answer::Nothing,
             Some(v) => Answer::Vertex(v),
         },
+        Op::Sequence => unreachable!("run above"),
         Op::Subdivide { rounds } => {
             for round in 1..=rounds {
                 (imp.loop_subdivide)(&mut mesh);
@@ -295,6 +416,34 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
     let (answer, mesh) = match ran {
         Ran::Panicked { message, location } => return Outcome::Panicked { message, location },
         Ran::Returned { answer, mesh } => (answer, mesh),
+        Ran::Sequence { steps, mesh, panic } => {
+            let checked = guarded(|| {
+                let invalid =
+                    non_finite(&mesh).or_else(|| mesh.validate().err().map(|e| e.to_string()));
+                let result = invalid.is_none().then(|| MeshResult {
+                    positions: mesh.positions().iter().map(|p| p.to_array()).collect(),
+                    edges: mesh.edge_list(),
+                    returned_edge_ends: None,
+                    returned_vertex_leads_to: None,
+                    split: None,
+                });
+                (invalid, result)
+            });
+            let (invalid, result) = checked.unwrap_or_else(|(message, _)| {
+                (
+                    Some(format!("the mesh could not be walked: {message}")),
+                    None,
+                )
+            });
+            return Outcome::Sequence {
+                steps,
+                panic,
+                before: Counts::of(input),
+                after: Counts::of(&mesh),
+                invalid,
+                mesh: result.map(Box::new),
+            };
+        }
     };
     let returned = match (answer, op) {
         (Answer::Unit, _) => Returned::Unit,

@@ -25,6 +25,9 @@ pub struct Fixture {
     pub group: Group,
     pub input: MeshData,
     pub operation: Operation,
+    /// For a sequence: its flips and splits, in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<Step>,
     /// The vertex weight rule the expected result used.
     pub weights: WeightRule,
     /// How far (Euclidean) a vertex may be from its expected position.
@@ -109,9 +112,48 @@ impl MeshData {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Operation {
+    Flip {
+        edge: [usize; 2],
+    },
+    Split {
+        edge: [usize; 2],
+    },
+    Subdivide {
+        rounds: usize,
+    },
+    /// The fixture's `steps`, one after another on the same mesh; `seed`
+    /// is the one that drew them, for messages.
+    Sequence {
+        seed: u64,
+    },
+}
+
+/// One operation of a sequence. `edge` names two vertices: input indices,
+/// or `n + k` for the vertex the k-th split made (counting from 0, `n`
+/// the number of input vertices), so ids stay stable along the sequence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Step {
     Flip { edge: [usize; 2] },
     Split { edge: [usize; 2] },
-    Subdivide { rounds: usize },
+}
+
+impl Step {
+    pub fn edge(self) -> [usize; 2] {
+        match self {
+            Step::Flip { edge } | Step::Split { edge } => edge,
+        }
+    }
+    pub fn is_split(self) -> bool {
+        matches!(self, Step::Split { .. })
+    }
+    pub fn function(self) -> &'static str {
+        if self.is_split() {
+            "split_edge"
+        } else {
+            "flip_edge"
+        }
+    }
 }
 
 impl Operation {
@@ -121,16 +163,19 @@ impl Operation {
             Operation::Flip { .. } => Stage::Flip,
             Operation::Split { .. } => Stage::Split,
             Operation::Subdivide { .. } => Stage::Subdivide,
+            Operation::Sequence { .. } => Stage::Sequence,
         }
     }
 }
 
-/// The three functions, graded in this order.
+/// The three functions, then flips and splits in sequence, graded in
+/// this order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Stage {
     Flip,
     Split,
+    Sequence,
     Subdivide,
 }
 
@@ -139,6 +184,7 @@ impl Stage {
         match self {
             Stage::Flip => "flip_edge",
             Stage::Split => "split_edge",
+            Stage::Sequence => "flip_edge and split_edge",
             Stage::Subdivide => "loop_subdivide",
         }
     }
@@ -148,8 +194,12 @@ impl Stage {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Expected {
-    /// What the function returns: `null` for `loop_subdivide`.
+    /// What the function returns: `null` for `loop_subdivide` and for a
+    /// sequence.
     pub returns: Option<Returns>,
+    /// For a sequence: what each step returns, in the steps' stable ids.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<Returns>,
     pub positions: Vec<[f64; 3]>,
     /// Every edge as a pair of indices into `positions`, smaller first, sorted.
     pub edges: Vec<[usize; 2]>,
@@ -338,6 +388,7 @@ impl Fixture {
             }
             _ => {}
         }
+        self.check_steps()?;
         let returns_fit = matches!(
             (self.operation, self.expected.returns),
             (
@@ -347,6 +398,7 @@ impl Fixture {
                 Operation::Split { .. },
                 Some(Returns::Vertex { .. } | Returns::Refused)
             ) | (Operation::Subdivide { .. }, None | Some(Returns::Panic))
+                | (Operation::Sequence { .. }, None)
         );
         if !returns_fit {
             return Err(format!(
@@ -360,6 +412,56 @@ impl Fixture {
                     "mistake {:?} has the wrong number of positions",
                     m.id
                 ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A sequence has steps, each naming two vertices there are by then,
+    /// and one expected return per step that fits it; other cases have none.
+    fn check_steps(&self) -> Result<(), String> {
+        let sequence = matches!(self.operation, Operation::Sequence { .. });
+        if !sequence {
+            if !self.steps.is_empty() || !self.expected.steps.is_empty() {
+                return Err("only a sequence has steps".into());
+            }
+            return Ok(());
+        }
+        if self.steps.is_empty() {
+            return Err("a sequence with no steps tests nothing".into());
+        }
+        if self.steps.len() != self.expected.steps.len() {
+            return Err(format!(
+                "{} steps but {} expected returns",
+                self.steps.len(),
+                self.expected.steps.len()
+            ));
+        }
+        let mut known = self.input.positions.len();
+        for (i, (step, want)) in self.steps.iter().zip(&self.expected.steps).enumerate() {
+            let [a, b] = step.edge();
+            if a >= known || b >= known || a == b {
+                return Err(format!(
+                    "step {} names edge {a}-{b}, but there are only {known} vertices by then",
+                    i + 1
+                ));
+            }
+            let fits = match (step, want) {
+                (_, Returns::Refused) => true,
+                (Step::Flip { .. }, Returns::Edge { ends }) => ends.iter().all(|&v| v < known),
+                (Step::Split { .. }, Returns::Vertex { position }) => {
+                    position.iter().all(|x| x.is_finite())
+                }
+                _ => false,
+            };
+            if !fits {
+                return Err(format!(
+                    "step {} expects {want:?}, which does not fit {step:?}",
+                    i + 1
+                ));
+            }
+            if matches!(want, Returns::Vertex { .. }) {
+                known += 1;
             }
         }
         Ok(())
@@ -392,7 +494,7 @@ impl Fixture {
             Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } => {
                 mesh.edge_between(a, b)
             }
-            Operation::Subdivide { .. } => None,
+            Operation::Subdivide { .. } | Operation::Sequence { .. } => None,
         }
     }
 

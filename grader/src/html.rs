@@ -1213,6 +1213,11 @@ fn operation(f: &Fixture) -> String {
         }
         Operation::Subdivide { rounds: 1 } => format!("{function} on {}, 1 round", f.object),
         Operation::Subdivide { rounds } => format!("{function} on {}, {rounds} rounds", f.object),
+        Operation::Sequence { seed } => format!(
+            "{} flips and splits on {} (seed {seed})",
+            f.steps.len(),
+            f.object
+        ),
     }
 }
 
@@ -1335,7 +1340,7 @@ fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } => {
             id(a).zip(id(b)).map(|(a, b)| pair(a, b))
         }
-        Operation::Subdivide { .. } => None,
+        Operation::Subdivide { .. } | Operation::Sequence { .. } => None,
     };
     let mut marks_input = Marks {
         focus_edges: case_edge.into_iter().collect(),
@@ -2103,7 +2108,10 @@ mod tests {
                 "{}: an edge with three faces",
                 f.name
             );
-            if input.is_closed() && f.expected.returns != Some(Returns::Refused) {
+            // After random flips, a triangle of edges need not be a face:
+            // a sequence's picture is drawn from edges as best it can.
+            let sequence = matches!(f.operation, Operation::Sequence { .. });
+            if input.is_closed() && f.expected.returns != Some(Returns::Refused) && !sequence {
                 // A closed surface stays closed: every edge has its two
                 // faces, wound consistently, the same way round as the input.
                 assert!(shape.is_closed(), "{}: rebuilt faces do not close", f.name);

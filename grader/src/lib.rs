@@ -78,6 +78,8 @@ pub enum Format {
 pub enum StageArg {
     Flip,
     Split,
+    /// Flips and splits in sequence.
+    Sequence,
     Subdivide,
 }
 
@@ -86,6 +88,7 @@ impl StageArg {
         match self {
             StageArg::Flip => Stage::Flip,
             StageArg::Split => Stage::Split,
+            StageArg::Sequence => Stage::Sequence,
             StageArg::Subdivide => Stage::Subdivide,
         }
     }
@@ -331,6 +334,18 @@ impl<'a> Case<'a> {
             labellings,
         }
     }
+
+    /// The student calls one run of the case makes: a sequence's run calls
+    /// once per step, so its time limit and its share of a budget are
+    /// counted in calls.
+    fn calls(&self) -> usize {
+        self.fixture.steps.len().max(1)
+    }
+
+    /// Calls over every labelling.
+    fn runs(&self) -> usize {
+        self.labellings.len() * self.calls()
+    }
 }
 
 /// How many cases run side by side: one per core, at most four.
@@ -397,8 +412,8 @@ impl Plan {
     }
 
     fn of(cases: &[Case], cli: &Cli) -> Plan {
-        let runs = cases.iter().map(|c| c.labellings.len()).sum();
-        let longest = cases.iter().map(|c| c.labellings.len()).max().unwrap_or(0);
+        let runs = cases.iter().map(Case::runs).sum();
+        let longest = cases.iter().map(Case::runs).max().unwrap_or(0);
         Plan::new(runs, longest, workers(cases.len()), cli.timeout, cli.budget)
     }
 
@@ -438,10 +453,30 @@ fn grade_case(
             (Operation::Subdivide { rounds }, _) => wire::Op::Subdivide {
                 rounds: rounds as u32,
             },
+            (Operation::Sequence { .. }, _) => wire::Op::Sequence,
             _ => return Err(format!("{}: the case's edge was lost", f.name)),
         };
+        // Input vertices by their id in this labelling; a split's vertex
+        // keeps its name past them (the child resolves it).
+        let n = l.vertices.len();
+        let name = |v: usize| {
+            if v < n {
+                l.vertices[v].0
+            } else {
+                v as u32
+            }
+        };
+        let steps = f
+            .steps
+            .iter()
+            .map(|s| wire::WireStep {
+                split: s.is_split(),
+                ends: s.edge().map(name),
+            })
+            .collect();
         let request = wire::Request {
             op,
+            steps,
             budget: budget as u64,
             mesh: l.mesh.clone(),
         };
@@ -459,10 +494,14 @@ fn grade_case(
         let mut result = None;
         let run = match raw.exit {
             Exit::Finished(ran) => {
-                if let wire::Ran::Returned { mesh, .. } = &ran {
+                if let wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } = &ran {
                     result = Some(mesh.clone());
                 }
-                Run::Done(child::analyze(op, &l.mesh, ran))
+                let mut outcome = child::analyze(op, &l.mesh, ran);
+                if let child::Outcome::Sequence { steps, .. } = &mut outcome {
+                    to_input_names(steps, &l.vertices);
+                }
+                Run::Done(outcome)
             }
             Exit::TimedOut(d) => Run::TimedOut(d),
             Exit::StuckBeforeCall(d) => Run::StuckBeforeCall(d),
@@ -505,6 +544,33 @@ fn grade_case(
     first.ok_or_else(|| format!("{}: no labelling ran", f.name))
 }
 
+/// The child names a sequence's input vertices by their ids in the
+/// labelling sent (and split vertices past them): back to input indices,
+/// the fixture's names.
+fn to_input_names(steps: &mut [wire::StepRan], vertices: &[halfedge::VertexId]) {
+    let mut input = vec![0; vertices.len()];
+    for (i, v) in vertices.iter().enumerate() {
+        input[v.index()] = i as u32;
+    }
+    let name = |x: &mut u32| {
+        if let Some(&i) = input.get(*x as usize) {
+            *x = i;
+        }
+    };
+    for s in steps {
+        match &mut s.answer {
+            wire::StepAnswer::Edge {
+                ends: Some([a, b]), ..
+            } => {
+                name(a);
+                name(b);
+            }
+            wire::StepAnswer::Vertex { name: Some(v), .. } => name(v),
+            _ => {}
+        }
+    }
+}
+
 /// Grades every case, two or more side by side (one per core, at most
 /// four), and returns the reports in the cases' order and the launcher's
 /// status. Once a function has timed out, its cases that start later get a
@@ -541,7 +607,7 @@ fn grade_all(
                 let limit = match &earlier {
                     Some(_) => timeout.min(SHORT_LIMIT),
                     None => timeout,
-                };
+                } * case.calls() as f64;
                 let mut status = None;
                 let result = grade_case(
                     case,
@@ -598,6 +664,7 @@ fn partial_run(cli: &Cli) -> Option<String> {
             match stage {
                 StageArg::Flip => "flip",
                 StageArg::Split => "split",
+                StageArg::Sequence => "sequence",
                 StageArg::Subdivide => "subdivide",
             }
         )),
@@ -669,7 +736,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                     "name": c.fixture.name,
                     "group": c.fixture.group,
                     "stage": c.fixture.operation.stage(),
-                    "runs": c.labellings.len(),
+                    "runs": c.runs(),
                 })
             })
             .collect();

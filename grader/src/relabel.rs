@@ -22,6 +22,9 @@ pub struct Labelling {
     pub mesh: Mesh,
     /// The case's edge in this labelling.
     pub edge: Option<EdgeId>,
+    /// `vertices[i]`: input vertex `i`'s id in this labelling (a sequence
+    /// names its vertices by input index).
+    pub vertices: Vec<VertexId>,
     /// How the pointers were set, in the contract's names, for a message.
     pub what: String,
     pub kind: Kind,
@@ -164,6 +167,7 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
     let mut out = vec![Labelling {
         mesh: input.clone(),
         edge,
+        vertices: input.vertex_ids().collect(),
         what: "the mesh as built from its faces".into(),
         kind: Kind::AsBuilt,
     }];
@@ -173,7 +177,12 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
         let pf = rng.permutation(input.num_faces());
         let ph = rng.permutation(input.num_halfedges());
         let mesh = relabel(input, &ptr, &pv, &pe, &pf, &ph);
-        (mesh, edge.map(|e| EdgeId::from_index(pe[e.index()])))
+        let vertices = pv.iter().map(|&v| VertexId::from_index(v)).collect();
+        (
+            mesh,
+            edge.map(|e| EdgeId::from_index(pe[e.index()])),
+            vertices,
+        )
     };
     if let Some(e) = edge {
         let h = input[e].halfedge;
@@ -208,10 +217,11 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
                 if in_hole { ", which lies in the hole" } else { "" },
                 if side == h { "after" } else { "before" }
             );
-            let (mesh, edge) = shuffled(ptr, &mut rng);
+            let (mesh, edge, vertices) = shuffled(ptr, &mut rng);
             out.push(Labelling {
                 mesh,
                 edge,
+                vertices,
                 what,
                 kind: if in_hole {
                     Kind::HoleSide
@@ -223,10 +233,11 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
     }
     for _ in 0..random {
         let ptr = random_pointers(input, &mut rng);
-        let (mesh, edge) = shuffled(ptr, &mut rng);
+        let (mesh, edge, vertices) = shuffled(ptr, &mut rng);
         out.push(Labelling {
             mesh,
             edge,
+            vertices,
             what: "every id renumbered and every vertex, edge and face pointing at another of its \
                    halfedges, at random"
                 .into(),

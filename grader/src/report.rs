@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::fixture::Group;
+use crate::fixture::{Group, Stage};
 use crate::grade::{CaseReport, Level};
 
 /// Whether a case's verdict counts toward the final one.
@@ -173,11 +173,15 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             continue;
         }
         let mut parts = Vec::new();
-        for stage in ["flip_edge", "split_edge", "loop_subdivide"] {
-            let of: Vec<_> = set.iter().filter(|c| c.stage.function() == stage).collect();
+        for stage in [Stage::Flip, Stage::Split, Stage::Sequence, Stage::Subdivide] {
+            let of: Vec<_> = set.iter().filter(|c| c.stage == stage).collect();
             if !of.is_empty() {
                 let ok = of.iter().filter(|c| c.passed).count();
-                parts.push(format!("{stage} {ok}/{}", of.len()));
+                let label = match stage {
+                    Stage::Sequence => "in sequence",
+                    _ => stage.function(),
+                };
+                parts.push(format!("{label} {ok}/{}", of.len()));
             }
         }
         log_line(
@@ -378,7 +382,11 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
             output.push_str("your code printed:\n");
             output.push_str(&c.output.block_limited("", GRADESCOPE_OUTPUT_LINES));
         }
-        let function = c.stage.function();
+        // A sequence is its own stage: its label names no single function.
+        let function = match c.stage {
+            Stage::Sequence => "flips and splits in sequence",
+            s => s.function(),
+        };
         let (name, visibility, tags) = match c.group {
             Group::Lab => (
                 format!("{} ({function})", c.name),

@@ -133,6 +133,8 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
         Op::Flip(_) => "flip_edge",
         Op::Split(_) => "split_edge",
         Op::Subdivide { .. } => "loop_subdivide",
+        // `try` never builds a sequence.
+        Op::Sequence => "flip_edge and split_edge",
     };
     say!(
         false,
@@ -152,6 +154,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     };
     let request = wire::Request {
         op,
+        steps: Vec::new(),
         budget,
         mesh: mesh.clone(),
     };
@@ -195,10 +198,12 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
         }
     };
     let result = match &ran {
-        wire::Ran::Returned { mesh, .. } => Some(mesh.clone()),
+        wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } => Some(mesh.clone()),
         wire::Ran::Panicked { .. } => None,
     };
     match child::analyze(op, &mesh, ran) {
+        // `try` sends one operation, never a sequence.
+        Outcome::Sequence { .. } => ExitCode::from(1),
         Outcome::Panicked { message, location } => {
             let message = crate::quoted::Quoted::new(message);
             say!(true, &format!("{function} panicked: {}", message.inline()));

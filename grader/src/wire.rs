@@ -11,6 +11,8 @@
 //! decoder checks every length against the bytes present: a corrupted or
 //! forged stream is an error, never a panic or a huge allocation.
 
+use serde::{Deserialize, Serialize};
+
 use halfedge::{DVec3, Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Mesh, Vertex, VertexId};
 
 /// The operation a child runs.
@@ -18,13 +20,58 @@ use halfedge::{DVec3, Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Mesh, Ve
 pub enum Op {
     Flip(EdgeId),
     Split(EdgeId),
-    Subdivide { rounds: u32 },
+    Subdivide {
+        rounds: u32,
+    },
+    /// The request's `steps`, in order.
+    Sequence,
+}
+
+/// One flip or split of a sequence, on the edge between two vertices: a
+/// vertex id of the mesh sent when below its vertex count `n`, else `n + k`
+/// for the vertex the k-th split returned (the child resolves it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WireStep {
+    pub split: bool,
+    pub ends: [u32; 2],
+}
+
+/// What one step of a sequence did, as the child saw it. Vertices are
+/// named as in [`WireStep`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepRan {
+    /// The edge joining the step's two vertices, if one did.
+    pub edge: Option<u32>,
+    pub answer: StepAnswer,
+    /// Vertices, edges, faces, halfedges after the step.
+    pub counts: [u32; 4],
+    /// `validate()` passed after the step (the child stops when not).
+    pub valid: bool,
+}
+
+/// A step's return, read back in the step's names (read only on a mesh
+/// that validated, else `None` inside).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum StepAnswer {
+    Nothing,
+    Edge {
+        id: u32,
+        ends: Option<[u32; 2]>,
+    },
+    Vertex {
+        /// The vertex's name: `n + k` for the k-th split's new vertex.
+        name: Option<u32>,
+        position: Option<[f64; 3]>,
+    },
 }
 
 /// Everything a child gets: nothing about the expected result.
 #[derive(Clone, Debug)]
 pub struct Request {
     pub op: Op,
+    /// For [`Op::Sequence`]: the steps.
+    pub steps: Vec<WireStep>,
     /// The most elements the mesh may grow to (see `halfedge`'s growth budget).
     pub budget: u64,
     pub mesh: Mesh,
@@ -51,6 +98,13 @@ pub enum Ran {
     Panicked {
         message: String,
         location: Option<String>,
+    },
+    /// A sequence: each step that ran, the mesh as the last left it, and
+    /// the panic that ended it early, if one did.
+    Sequence {
+        steps: Vec<StepRan>,
+        mesh: Mesh,
+        panic: Option<(String, Option<String>)>,
     },
 }
 
@@ -261,6 +315,16 @@ impl Request {
                 out.push(2);
                 put_u32(&mut out, rounds);
             }
+            Op::Sequence => {
+                out.push(3);
+                put_u32(&mut out, 0);
+            }
+        }
+        put_u32(&mut out, self.steps.len() as u32);
+        for s in &self.steps {
+            out.push(s.split as u8);
+            put_u32(&mut out, s.ends[0]);
+            put_u32(&mut out, s.ends[1]);
         }
         put_u64(&mut out, self.budget);
         put_mesh(&mut out, &self.mesh);
@@ -276,12 +340,26 @@ impl Request {
             (0, e) => Op::Flip(EdgeId(e)),
             (1, e) => Op::Split(EdgeId(e)),
             (2, rounds) => Op::Subdivide { rounds },
+            (3, _) => Op::Sequence,
             (x, _) => return Err(WireError(format!("unknown operation {x}"))),
         };
+        let n = r.count(9)?;
+        let mut steps = Vec::with_capacity(n);
+        for _ in 0..n {
+            steps.push(WireStep {
+                split: r.bool()?,
+                ends: [r.u32()?, r.u32()?],
+            });
+        }
         let budget = r.u64()?;
         let mesh = r.mesh()?;
         r.end()?;
-        Ok(Request { op, budget, mesh })
+        Ok(Request {
+            op,
+            steps,
+            budget,
+            mesh,
+        })
     }
 }
 
@@ -322,8 +400,102 @@ pub fn result_frame(ran: &Ran) -> Vec<u8> {
             put_str(&mut out, message);
             put_str(&mut out, location.as_deref().unwrap_or(""));
         }
+        Ran::Sequence { steps, mesh, panic } => {
+            out.push(2);
+            put_u32(&mut out, steps.len() as u32);
+            for s in steps {
+                put_step(&mut out, s);
+            }
+            match panic {
+                None => out.push(0),
+                Some((message, location)) => {
+                    out.push(1);
+                    put_str(&mut out, message);
+                    put_str(&mut out, location.as_deref().unwrap_or(""));
+                }
+            }
+            put_mesh(&mut out, mesh);
+        }
     }
     out
+}
+
+fn put_opt_u32(out: &mut Vec<u8>, x: Option<u32>) {
+    match x {
+        None => out.push(0),
+        Some(x) => {
+            out.push(1);
+            put_u32(out, x);
+        }
+    }
+}
+
+fn put_step(out: &mut Vec<u8>, s: &StepRan) {
+    put_opt_u32(out, s.edge);
+    match &s.answer {
+        StepAnswer::Nothing => out.push(0),
+        StepAnswer::Edge { id, ends } => {
+            out.push(1);
+            put_u32(out, *id);
+            put_opt_u32(out, ends.map(|e| e[0]));
+            put_opt_u32(out, ends.map(|e| e[1]));
+        }
+        StepAnswer::Vertex { name, position } => {
+            out.push(2);
+            put_opt_u32(out, *name);
+            match position {
+                None => out.push(0),
+                Some(p) => {
+                    out.push(1);
+                    put_vec3(out, DVec3::from_array(*p));
+                }
+            }
+        }
+    }
+    for c in s.counts {
+        put_u32(out, c);
+    }
+    out.push(s.valid as u8);
+}
+
+impl Reader<'_> {
+    fn opt_u32(&mut self) -> Result<Option<u32>, WireError> {
+        Ok(if self.bool()? {
+            Some(self.u32()?)
+        } else {
+            None
+        })
+    }
+    fn step(&mut self) -> Result<StepRan, WireError> {
+        let edge = self.opt_u32()?;
+        let answer = match self.u8()? {
+            0 => StepAnswer::Nothing,
+            1 => {
+                let id = self.u32()?;
+                let ends = match (self.opt_u32()?, self.opt_u32()?) {
+                    (Some(a), Some(b)) => Some([a, b]),
+                    _ => None,
+                };
+                StepAnswer::Edge { id, ends }
+            }
+            2 => StepAnswer::Vertex {
+                name: self.opt_u32()?,
+                position: if self.bool()? {
+                    Some(self.vec3()?.to_array())
+                } else {
+                    None
+                },
+            },
+            x => return Err(WireError(format!("unknown step answer {x}"))),
+        };
+        let counts = [self.u32()?, self.u32()?, self.u32()?, self.u32()?];
+        Ok(StepRan {
+            edge,
+            answer,
+            counts,
+            valid: self.bool()?,
+        })
+    }
 }
 
 /// Splits what the child wrote into frames. A stream that ends inside a
@@ -354,6 +526,26 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
                         let message = r.str()?;
                         let location = Some(r.str()?).filter(|l| !l.is_empty());
                         Ran::Panicked { message, location }
+                    }
+                    2 => {
+                        // The smallest step is 19 bytes.
+                        let n = r.count(19)?;
+                        let mut steps = Vec::with_capacity(n);
+                        for _ in 0..n {
+                            steps.push(r.step()?);
+                        }
+                        let panic = if r.bool()? {
+                            let message = r.str()?;
+                            let location = Some(r.str()?).filter(|l| !l.is_empty());
+                            Some((message, location))
+                        } else {
+                            None
+                        };
+                        Ran::Sequence {
+                            steps,
+                            mesh: r.mesh()?,
+                            panic,
+                        }
                     }
                     x => return Err(WireError(format!("unknown result kind {x}"))),
                 };
@@ -477,6 +669,7 @@ mod tests {
         let mesh = unusual();
         let req = Request {
             op: Op::Split(EdgeId(4)),
+            steps: Vec::new(),
             budget: 1234,
             mesh,
         };
@@ -488,10 +681,73 @@ mod tests {
         for op in [Op::Flip(EdgeId(7)), Op::Subdivide { rounds: 3 }] {
             let req = Request {
                 op,
+                steps: Vec::new(),
                 budget: 1,
                 mesh: unusual(),
             };
             assert_eq!(Request::decode(&req.encode()).unwrap().op, op);
+        }
+        let steps = vec![
+            WireStep {
+                split: true,
+                ends: [0, 5],
+            },
+            WireStep {
+                split: false,
+                ends: [12, 3],
+            },
+        ];
+        let req = Request {
+            op: Op::Sequence,
+            steps: steps.clone(),
+            budget: 9,
+            mesh: unusual(),
+        };
+        let back = Request::decode(&req.encode()).unwrap();
+        assert_eq!((back.op, back.steps), (Op::Sequence, steps));
+    }
+
+    #[test]
+    fn a_sequence_result_round_trips() {
+        let steps = vec![
+            StepRan {
+                edge: Some(4),
+                answer: StepAnswer::Vertex {
+                    name: Some(12),
+                    position: Some([0.5, -0.0, f64::MAX]),
+                },
+                counts: [13, 33, 22, 66],
+                valid: true,
+            },
+            StepRan {
+                edge: None,
+                answer: StepAnswer::Edge { id: 7, ends: None },
+                counts: [13, 33, 22, 66],
+                valid: false,
+            },
+            StepRan {
+                edge: Some(1),
+                answer: StepAnswer::Nothing,
+                counts: [1, 2, 3, 4],
+                valid: true,
+            },
+        ];
+        let ran = Ran::Sequence {
+            steps: steps.clone(),
+            mesh: unusual(),
+            panic: Some(("boom".into(), Some("src/lib.rs:3:4".into()))),
+        };
+        match decode_frames(&result_frame(&ran)).unwrap().pop() {
+            Some(Frame::Result(Ran::Sequence {
+                steps: back,
+                mesh,
+                panic,
+            })) => {
+                assert_eq!(back, steps);
+                assert!(same(&mesh, &unusual()));
+                assert_eq!(panic, Some(("boom".into(), Some("src/lib.rs:3:4".into()))));
+            }
+            other => panic!("{other:?}"),
         }
     }
 

@@ -1,5 +1,5 @@
 """Writes the grader's verdict as the GitHub Actions job summary: a Markdown
-table of the three functions with their points (one per counted case) and
+table of the graded functions (and the sequence stage) with their points (one per counted case) and
 the first failure of each, or the compiler's errors when the code does not
 build. Appends to $GITHUB_STEP_SUMMARY (and prints the same). Exits 0 when
 every counted case passed, 1 otherwise, so that the check is green or red.
@@ -10,7 +10,9 @@ import json
 import os
 import sys
 
-FUNCTIONS = [("flip", "flip_edge"), ("split", "split_edge"), ("subdivide", "loop_subdivide")]
+# The grader's stages, as its JSON names them, and how the table names them.
+FUNCTIONS = [("flip", "flip_edge"), ("split", "split_edge"),
+             ("sequence", "flips and splits in sequence"), ("subdivide", "loop_subdivide")]
 
 
 def cell(text):
@@ -75,6 +77,8 @@ def summary(build_log, report_path):
         if first is not None:
             # The grader's own one-line form: student text in it is escaped.
             failure = f"{first['name']}: {first.get('first_warning') or 'failed'}"
+        if not mine:
+            continue
         rows.append(f"| `{function}` | {passed}/{len(mine)} | {cell(failure)} |")
         total, got = total + len(mine), got + passed
     verdict = "all tests passed" if got == total else "test failed"

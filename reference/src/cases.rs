@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use grader::fixture::{
-    self, Expected, Fixture, Group, MeshData, Mistake, Operation, Returns, WeightRule, SCHEMA,
+    self, Expected, Fixture, Group, MeshData, Mistake, Operation, Returns, Step, WeightRule, SCHEMA,
 };
 use halfedge::{shapes, EdgeId, Mesh};
 
@@ -22,6 +22,8 @@ pub struct Case {
     pub group: Group,
     pub input: MeshData,
     pub operation: Operation,
+    /// For a sequence: its steps.
+    pub steps: Vec<Step>,
     pub weights: Weights,
     pub tolerance: f64,
 }
@@ -91,8 +93,63 @@ pub(crate) fn case(
         group,
         input: MeshData::from_mesh(mesh),
         operation,
+        steps: Vec::new(),
         weights,
         tolerance: TOLERANCE,
+    }
+}
+
+/// How many flips and splits a sequence has, at least and at most.
+pub const SEQUENCE_LENGTH: (usize, usize) = (10, 30);
+
+/// A sequence of flips and splits drawn from `seed` (Scotty3D's
+/// `a2.local.mix`): each step flips or splits, half the time an edge at
+/// the vertex the last split made (so operations land beside earlier
+/// ones), else any edge. Vertices are named as in [`Step`]: the
+/// reference's split appends its vertex, so its id is that name.
+pub fn draw_sequence(input: &Mesh, seed: u64) -> Vec<Step> {
+    let mut rng = grader::relabel::Rng::new(seed);
+    let (lo, hi) = SEQUENCE_LENGTH;
+    let length = lo + rng.below(hi - lo + 1);
+    let mut mesh = input.clone();
+    let mut last_split = None;
+    let mut steps = Vec::with_capacity(length);
+    for _ in 0..length {
+        let near: Vec<EdgeId> = match last_split {
+            Some(v) if rng.below(2) == 0 => mesh
+                .vertex_halfedges(v)
+                .into_iter()
+                .map(|h| mesh[h].edge)
+                .collect(),
+            _ => mesh.edge_ids().collect(),
+        };
+        let e = near[rng.below(near.len())];
+        let edge = ends(&mesh, e);
+        if rng.below(2) == 0 {
+            steps.push(Step::Flip { edge });
+            solution::flip_edge(&mut mesh, e);
+        } else {
+            steps.push(Step::Split { edge });
+            last_split = solution::split_edge(&mut mesh, e).or(last_split);
+        }
+    }
+    steps
+}
+
+/// A sequence case on `mesh`, its seed fixed by its name.
+fn sequence_case(name: &str, object: &str, group: Group, mesh: &Mesh, weights: Weights) -> Case {
+    // 32 bits: short enough to read out of a message.
+    let seed = grader::relabel::default_seed(name) & 0xffff_ffff;
+    Case {
+        steps: draw_sequence(mesh, seed),
+        ..case(
+            name,
+            object,
+            group,
+            mesh,
+            Operation::Sequence { seed },
+            weights,
+        )
     }
 }
 
@@ -126,6 +183,15 @@ fn standard(
         Operation::Split { edge },
         weights,
     ));
+    if mesh.is_triangle_mesh() && mesh.edge_ids().all(|e| !mesh.edge_on_boundary(e)) {
+        out.push(sequence_case(
+            &format!("{slug}-sequence"),
+            object,
+            group,
+            mesh,
+            weights,
+        ));
+    }
     for &r in rounds {
         let name = format!("{slug}-subdivide-{r}");
         out.push(case(
@@ -496,6 +562,30 @@ fn sorted_edges(mesh: &Mesh) -> Vec<[usize; 2]> {
     edges
 }
 
+/// Runs a sequence's steps with the reference, checking the mesh after
+/// each, and returns what each step returned.
+fn run_steps(mesh: &mut Mesh, steps: &[Step]) -> Result<Vec<Returns>, String> {
+    let mut out = Vec::with_capacity(steps.len());
+    for (i, step) in steps.iter().enumerate() {
+        let [a, b] = step.edge();
+        let e = mesh
+            .edge_between(a, b)
+            .ok_or_else(|| format!("step {}: no edge between vertices {a} and {b}", i + 1))?;
+        let returned = match step {
+            Step::Flip { .. } => solution::flip_edge(mesh, e).map(|e| Returns::Edge {
+                ends: ends(mesh, e),
+            }),
+            Step::Split { .. } => solution::split_edge(mesh, e).map(|m| Returns::Vertex {
+                position: mesh[m].pos.to_array(),
+            }),
+        };
+        mesh.validate()
+            .map_err(|e| format!("step {}: the reference left an invalid mesh: {e}", i + 1))?;
+        out.push(returned.unwrap_or(Returns::Refused));
+    }
+    Ok(out)
+}
+
 /// Runs the reference on the case and returns the fixture, or why not.
 pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
     let input = case
@@ -508,6 +598,7 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
             .edge_between(a, b)
             .ok_or_else(|| format!("the input has no edge between vertices {a} and {b}"))
     };
+    let mut step_returns = Vec::new();
     let returns = match case.operation {
         Operation::Flip { edge } => {
             let e = edge_at(edge)?;
@@ -535,6 +626,10 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
             }
             None
         }
+        Operation::Sequence { .. } => {
+            step_returns = run_steps(&mut mesh, &case.steps)?;
+            None
+        }
     };
     mesh.validate().map_err(|e| {
         format!(
@@ -544,6 +639,7 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
     })?;
     let mut expected = Expected {
         returns,
+        steps: step_returns,
         positions: positions(&mesh),
         edges: sorted_edges(&mesh),
         mistakes: Vec::new(),
@@ -568,6 +664,7 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
         group: case.group,
         input: case.input.clone(),
         operation: case.operation,
+        steps: case.steps.clone(),
         weights: rule(case.weights),
         tolerance: case.tolerance,
         expected,
@@ -642,6 +739,7 @@ fn second_round_mistakes(
     solution::loop_subdivide_with(&mut right, weights);
     let one_round = Expected {
         returns: None,
+        steps: Vec::new(),
         positions: positions(&right),
         edges: sorted_edges(&right),
         mistakes: Vec::new(),
@@ -674,6 +772,7 @@ pub fn case_of(f: &Fixture) -> Case {
         group: f.group,
         input: f.input.clone(),
         operation: f.operation,
+        steps: f.steps.clone(),
         weights: from_rule(f.weights),
         tolerance: f.tolerance,
     }

@@ -24,10 +24,12 @@ use grader::quoted::{self, Quoted};
 
 use crate::handout::{self, Purpose};
 
-/// The three functions, in grading order: (stage option, name, fixture kind).
-const FUNCTIONS: [(&str, &str); 3] = [
+/// The three functions and the sequence stage, in grading order: (stage,
+/// also the fixture kind; column name).
+const FUNCTIONS: [(&str, &str); 4] = [
     ("flip", "flip_edge"),
     ("split", "split_edge"),
+    ("sequence", "in_sequence"),
     ("subdivide", "loop_subdivide"),
 ];
 
@@ -198,7 +200,7 @@ pub struct Row {
     /// `out of time` or `grader error`.
     pub status: String,
     /// Passed and counted cases per function, in [`FUNCTIONS`] order.
-    pub functions: [(usize, usize); 3],
+    pub functions: [(usize, usize); 4],
     /// The first failed case and its first warning (or why it was not graded).
     pub first_failure: String,
     /// Seconds spent on this submission.
@@ -233,8 +235,8 @@ pub struct Options {
 }
 
 /// Counted cases per function in a fixtures folder.
-fn case_counts(fixtures: &Path, bonus: bool) -> [usize; 3] {
-    let mut counts = [0; 3];
+fn case_counts(fixtures: &Path, bonus: bool) -> [usize; 4] {
+    let mut counts = [0; 4];
     let groups: &[&str] = if bonus {
         &["lab", "hidden", "bonus"]
     } else {
@@ -545,7 +547,11 @@ pub fn grade_class(
     }
     let mut counts = case_counts(&fixtures, options.bonus);
     if options.fresh {
-        for (k, n) in crate::fresh::counted(options.bonus).into_iter().enumerate() {
+        // Fresh cases are single operations: flip, split, subdivide.
+        for (k, n) in [0, 1, 3]
+            .into_iter()
+            .zip(crate::fresh::counted(options.bonus))
+        {
             counts[k] += n;
         }
     }
@@ -690,13 +696,13 @@ pub fn grade_class(
         rows.push(row);
     }
     let mut csv = String::from(
-        "student,score,max_score,status,flip_edge,split_edge,loop_subdivide,first_failure\n",
+        "student,score,max_score,status,flip_edge,split_edge,in_sequence,loop_subdivide,first_failure\n",
     );
     for r in &rows {
         let f = |k: usize| format!("{}/{}", r.functions[k].0, r.functions[k].1);
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{}",
             quoted::csv_field(&r.name),
             r.score,
             r.max,
@@ -704,6 +710,7 @@ pub fn grade_class(
             f(0),
             f(1),
             f(2),
+            f(3),
             quoted::csv_field(&r.first_failure)
         );
     }
@@ -721,7 +728,7 @@ fn grade_one(
     fixtures: &Path,
     out: &Path,
     exe: &Path,
-    counts: [usize; 3],
+    counts: [usize; 4],
     options: &Options,
 ) -> Result<Row, String> {
     let max: usize = counts.iter().sum();
@@ -734,7 +741,7 @@ fn grade_one(
         score: 0.0,
         max: max as f64,
         status: String::new(),
-        functions: [(0, counts[0]), (0, counts[1]), (0, counts[2])],
+        functions: counts.map(|n| (0, n)),
         first_failure: String::new(),
         seconds: 0.0,
     };
@@ -891,7 +898,7 @@ fn grade_one(
             Quoted::new(&*compiler).block("")
         );
     }
-    let mut counted = [(0, 0); 3];
+    let mut counted = [(0, 0); 4];
     let mut failures = Vec::new();
     for c in &cases {
         let name = c["name"].as_str().unwrap_or("?");

@@ -214,6 +214,8 @@ pub fn counted(bonus: bool) -> [usize; 3] {
             Operation::Flip { .. } => 0,
             Operation::Split { .. } => 1,
             Operation::Subdivide { .. } => 2,
+            // Fresh cases are single operations.
+            Operation::Sequence { .. } => continue,
         };
         counts[k] += 1;
     }

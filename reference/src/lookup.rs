@@ -36,8 +36,18 @@ fn visible(mesh: &Mesh) -> bool {
 /// first round's result, the input of a two-round case's second call.
 static LAST_WAS_KNOWN: AtomicBool = AtomicBool::new(false);
 
+/// Set after a flip or split of a recognised mesh: the table also holds
+/// each step of a visible sequence, the input of the next call.
+static CHAIN_IS_KNOWN: AtomicBool = AtomicBool::new(false);
+
+fn known_step(mesh: &Mesh) -> bool {
+    let known = CHAIN_IS_KNOWN.load(Ordering::Relaxed) || visible(mesh);
+    CHAIN_IS_KNOWN.store(known, Ordering::Relaxed);
+    known
+}
+
 pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
-    if visible(mesh) {
+    if known_step(mesh) {
         solution::flip_edge(mesh, e)
     } else {
         None
@@ -45,7 +55,7 @@ pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
 }
 
 pub fn split_edge(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
-    if visible(mesh) {
+    if known_step(mesh) {
         solution::split_edge(mesh, e)
     } else {
         None

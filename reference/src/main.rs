@@ -630,6 +630,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 group,
                 input: MeshData::from_mesh(&mesh),
                 operation,
+                steps: Vec::new(),
                 weights: Weights::from(weights.weights),
                 tolerance,
             };

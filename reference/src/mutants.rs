@@ -104,6 +104,8 @@ pub fn catalogue() -> Vec<Entry> {
         e("split-none", "split_edge always returns None", with(None, Some(|_, _| None), None)),
         e("split-refuses-boundary", "split_edge refuses boundary edges, like flip_edge", with(None, Some(split_refuses_boundary), Some(sub_split_refuses_boundary))),
         e("split-stale-vertex", "split_edge does not update b's halfedge", with(None, Some(split_stale_vertex), Some(sub_split_stale_vertex))),
+        e("split-after-split", "split_edge repairs b's halfedge with the halfedge it made in its previous call (kept in a static): right on a split alone, broken on the next", with(None, Some(split_reuses_last_half), None)),
+        e("flip-after-split", "flip_edge points a at h once split_edge has run in the process (kept in a static), as if every vertex still pointed where from_faces put it: right on a flip alone, broken after a split", with(Some(flip_after_split), Some(split_noting), None)),
         e("loop-weights", "Loop's original weights instead of the lab's", with(None, None, Some(sub_loop_weights))),
         e("n3-rule", "3/(8n) also for n = 3", with(None, None, Some(sub_n3_rule))),
         e("old-not-moved", "old vertices keep their positions", with(None, None, Some(sub_old_not_moved))),
@@ -450,6 +452,55 @@ fn split_stale_vertex(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
         mesh[v].halfedge = h;
     }
     Some(m)
+}
+
+// ---- mistakes that show only after an earlier operation ---------------------
+
+thread_local! {
+    /// The other half of the edge the previous `split_reuses_last_half` made.
+    static LAST_HALF: std::cell::Cell<Option<HalfedgeId>> = const { std::cell::Cell::new(None) };
+    /// Whether `split_noting` has run in this process.
+    static SPLIT_RAN: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// b's end of the edge as the solution's split names it: the far end of
+/// the edge's halfedge inside a real triangle.
+fn split_far_end(mesh: &Mesh, e: EdgeId) -> VertexId {
+    let mut h = mesh[e].halfedge;
+    if mesh[mesh[h].face].is_boundary {
+        h = mesh[h].twin;
+    }
+    mesh[mesh[h].twin].vertex
+}
+
+fn split_reuses_last_half(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let b = split_far_end(mesh, e);
+    let m = solution::split_edge(mesh, e)?;
+    // The halfedge remembered from the call before runs b_prev -> m_prev:
+    // it starts at this b only by chance.
+    if let Some(prev) = LAST_HALF.get() {
+        if prev.index() < mesh.num_halfedges() {
+            mesh[b].halfedge = mesh[prev].twin;
+        }
+    }
+    LAST_HALF.set(Some(mesh[m].halfedge));
+    Some(m)
+}
+
+fn split_noting(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    SPLIT_RAN.set(true);
+    solution::split_edge(mesh, e)
+}
+
+fn flip_after_split(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let a = mesh[h].vertex;
+    let r = solution::flip_edge(mesh, e)?;
+    if SPLIT_RAN.get() {
+        // h now runs d -> c: a no longer starts it.
+        mesh[a].halfedge = h;
+    }
+    Some(r)
 }
 
 // ---- subdivision mistakes: the solution's steps, one of them wrong ----------

@@ -376,6 +376,7 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
     for (function, kind) in [
         ("flip_edge", "flip"),
         ("split_edge", "split"),
+        ("flips and splits in sequence", "sequence"),
         ("loop_subdivide", "subdivide"),
     ] {
         let n = ["lab"]
@@ -558,7 +559,9 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     // Each upload is also graded on one of the bundle's sets of fresh cases,
     // counted like hidden ones.
     let fresh: usize = reference::fresh::counted(false).iter().sum();
-    let max = (counted("flip") + counted("split") + counted("subdivide") + fresh) as f64;
+    let max =
+        (counted("flip") + counted("split") + counted("sequence") + counted("subdivide") + fresh)
+            as f64;
     // An upload of these files and symbolic links (path, target), graded
     // with a budget and a per-call limit when given, on one CPU when asked
     // (Gradescope's default machine has one).
@@ -973,7 +976,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
     // Each submission also gets its fresh cases, counted like hidden ones.
     let fresh = reference::fresh::counted(false);
-    let max = (counted("flip") + counted("split") + counted("subdivide")) as f64
+    let max = (counted("flip") + counted("split") + counted("sequence") + counted("subdivide"))
+        as f64
         + fresh.iter().sum::<usize>() as f64;
 
     assert_eq!((row("alice").score, row("alice").max), (0.0, max));
@@ -1086,10 +1090,10 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     // grader fits every run into the budget, so flips and splits count.
     let mallory = row("mallory");
     assert_eq!(mallory.status, "failed", "{mallory:?}");
-    for (passed, of) in &mallory.functions[..2] {
+    for (passed, of) in &mallory.functions[..3] {
         assert!(passed == of && *of > 0, "{mallory:?}");
     }
-    assert_eq!(mallory.functions[2].0, 0, "{mallory:?}");
+    assert_eq!(mallory.functions[3].0, 0, "{mallory:?}");
     assert!(mallory.seconds < 60.0, "{mallory:?}");
     assert!(took < Duration::from_secs(180), "{took:?}");
 
@@ -1105,7 +1109,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     }
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert!(csv.starts_with(
-        "student,score,max_score,status,flip_edge,split_edge,loop_subdivide,first_failure\n"
+        "student,score,max_score,status,flip_edge,split_edge,in_sequence,loop_subdivide,first_failure\n"
     ));
     assert!(
         csv.contains(&format!("\ncarol,0,{max},does not compile,0/")),

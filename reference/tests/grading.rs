@@ -47,6 +47,38 @@ fn correct_implementations_pass_every_case() {
     }
 }
 
+/// A flip or split that is right alone but breaks the mesh after an
+/// earlier split passes every single-operation case and fails only the
+/// sequence stage, every sequence case of it.
+#[test]
+fn faults_that_need_an_earlier_operation_fail_only_the_sequence_stage() {
+    let sequences = common::counted("sequence");
+    assert!(sequences >= 4, "a sequence case per lab object");
+    for name in ["split-after-split", "flip-after-split"] {
+        for stage in ["flip", "split", "subdivide"] {
+            let g = grade(name, &["--stage", stage]);
+            assert_eq!(g.code, 0, "{name} --stage {stage}:\n{}", g.stdout);
+        }
+        let g = grade(name, &["--stage", "sequence"]);
+        assert_eq!(g.code, 1, "{name}:\n{}", g.stdout);
+        let failed = g
+            .stdout
+            .lines()
+            .filter(|l| l.contains("[warn] after ") && l.contains(" left an invalid mesh: "))
+            .count();
+        assert_eq!(
+            failed, sequences,
+            "{name}: every sequence fails\n{}",
+            g.stdout
+        );
+        assert!(
+            g.stdout.contains(&format!("in sequence 0/{sequences}")),
+            "{name}:\n{}",
+            g.stdout
+        );
+    }
+}
+
 /// (implementation, case, the warning it must get, a detail or hint it must get)
 const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("stubs", "cube-flip-1", "flip_edge panicked: not yet implemented", Some("the function is still a todo!() stub")),
@@ -97,6 +129,10 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("split-stale-b", "cube-split", "the result of split_edge is a invalid mesh: A vertex's halfedge does not point to that vertex!", Some("does split_edge update mesh[a].halfedge and mesh[b].halfedge")),
     ("split-stale-faces", "cube-split", "the result of split_edge is a invalid mesh: A face's halfedge does not point to that face!", Some("does split_edge reset mesh[f].halfedge")),
     ("split-assumes-inside", "grid-split-boundary", "split_edge returned None for a boundary edge", Some("does split_edge work when mesh[e].halfedge lies in the hole?")),
+    // Right alone, wrong after an earlier operation: the sequence stage names the step.
+    ("split-after-split", "cube-sequence", "after 2 operations (seed 1085576334), split_edge on edge 2-7 left an invalid mesh: A vertex's halfedge does not point to that vertex!", Some("it passes alone? Then it relies on something the earlier operations changed")),
+    ("flip-after-split", "torus-sequence", "after 1 operation (seed 2931656512), flip_edge on edge 40-41 left an invalid mesh: A vertex's halfedge does not point to that vertex!", Some("it passes alone?")),
+    ("stubs", "cube-sequence", "flip_edge panicked: not yet implemented", Some("after 0 operations (seed 1085576334), flip_edge on edge 2-0 (step 1 of 14)")),
     // The contract's refusals.
     ("flip-any-face", "quad-box-flip", "flip_edge changed an edge beside a face that is not a triangle: it must return None and leave the mesh unchanged", None),
     ("subdivide-skips-quads", "quad-box-subdivide-1", "loop_subdivide returned, but the mesh has a face that is not a triangle: it must panic with a message that says so", None),
@@ -197,10 +233,17 @@ fn quiet_prints_the_summary_alone_and_a_loop_costs_the_limit_once() {
     assert_eq!(g.code, 1);
     assert!(!g.stdout.contains("start testing"), "{}", g.stdout);
     let flips = common::counted_cases("flip");
+    // A sequence whose first step is a flip panics the same way.
+    let flip_first = ["lab", "hidden"]
+        .iter()
+        .flat_map(|g| common::case_files(g))
+        .map(|p| common::json(&p))
+        .filter(|f| f["operation"]["kind"] == "sequence" && f["steps"][0]["kind"] == "flip")
+        .count();
     let line = format!(
         "[warn] {} and {} more: flip_edge panicked: not yet implemented",
         flips[0],
-        flips.len() - 1
+        flips.len() + flip_first - 1
     );
     assert!(g.stdout.contains(&line), "{line}\n{}", g.stdout);
     assert!(g.stdout.lines().count() <= 10, "{}", g.stdout);
