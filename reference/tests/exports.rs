@@ -1197,6 +1197,7 @@ fn class_grading_keeps_the_ta_s_environment_from_the_build() {
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let max = counted("flip")
         + counted("split")
+        + counted("sequence")
         + counted("subdivide")
         + reference::fresh::counted(false).iter().sum::<usize>();
     assert!(
