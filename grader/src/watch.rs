@@ -155,9 +155,12 @@ pub fn watch(file: &Path) -> ExitCode {
             on_interrupt as *const () as libc::sighandler_t,
         );
     }
-    let shown = file
-        .strip_prefix(std::env::current_dir().unwrap_or_default())
-        .unwrap_or(file);
+    // Named as the student would type it: from here, without `..`.
+    let file_abs = file.canonicalize().unwrap_or_else(|_| file.to_path_buf());
+    let here = std::env::current_dir()
+        .and_then(|d| d.canonicalize())
+        .unwrap_or_default();
+    let shown = file_abs.strip_prefix(&here).unwrap_or(&file_abs);
     loop {
         clear_screen();
         let mut pass = match start_pass() {
