@@ -665,22 +665,8 @@ fn write_all(fd: i32, mut bytes: &[u8]) {
     }
 }
 
-#[cfg(target_os = "linux")]
-type Resource = libc::__rlimit_resource_t;
-#[cfg(not(target_os = "linux"))]
-type Resource = libc::c_int;
-
-fn set_limit(resource: Resource, value: u64) -> Result<(), String> {
-    let limit = libc::rlimit {
-        rlim_cur: value as libc::rlim_t,
-        rlim_max: value as libc::rlim_t,
-    };
-    // SAFETY: a plain system call on a struct we own.
-    if unsafe { libc::setrlimit(resource, &limit) } != 0 {
-        return Err(format!("setrlimit({resource}): {}", last_error()));
-    }
-    Ok(())
-}
+// Limits are set as the case launcher sets them.
+use crate::sandbox::set_limit;
 
 /// The child's lock-in, before cargo is `exec`ed: the status line for the
 /// launcher (`landlock=6 network=namespace user=nobody`).

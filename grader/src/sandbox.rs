@@ -163,11 +163,12 @@ pub fn runnable_by_others(exe: &Path) -> bool {
 }
 
 #[cfg(target_os = "linux")]
-type Resource = libc::__rlimit_resource_t;
+pub(crate) type Resource = libc::__rlimit_resource_t;
 #[cfg(not(target_os = "linux"))]
-type Resource = libc::c_int;
+pub(crate) type Resource = libc::c_int;
 
-fn set_limit(resource: Resource, value: u64) -> Result<(), String> {
+/// Sets both the soft and the hard limit of `resource` to `value`.
+pub(crate) fn set_limit(resource: Resource, value: u64) -> Result<(), String> {
     let limit = libc::rlimit {
         rlim_cur: value as libc::rlim_t,
         rlim_max: value as libc::rlim_t,

@@ -573,22 +573,20 @@ fn edge_rule_points(mesh: &Mesh, e: EdgeId) -> Option<[DVec3; 4]> {
 /// The corners facing the edge taken as `mesh[h.next].vertex`: the edge's
 /// own ends, so the rule gives 3/8 (a + b) + 1/8 (b + a), the midpoint.
 fn sub_wrong_corner(mesh: &mut Mesh) {
-    solution::vertex_points(mesh, Weights::Warren);
-    solution::edge_points(mesh);
-    for e in mesh.edge_ids() {
-        if let Some([a, b, _, _]) = edge_rule_points(mesh, e) {
-            mesh[e].new_pos = 0.375 * (a + b) + 0.125 * (b + a);
-        }
-    }
-    after_points(mesh);
+    with_edge_rule(mesh, |[a, b, _, _]| 0.375 * (a + b) + 0.125 * (b + a));
 }
 
 fn sub_swapped_edge_weights(mesh: &mut Mesh) {
+    with_edge_rule(mesh, |[a, b, c, d]| 0.125 * (a + b) + 0.375 * (c + d));
+}
+
+/// The model's steps with `rule` (of a, b, c, d) for interior edge points.
+fn with_edge_rule(mesh: &mut Mesh, rule: fn([DVec3; 4]) -> DVec3) {
     solution::vertex_points(mesh, Weights::Warren);
     solution::edge_points(mesh);
     for e in mesh.edge_ids() {
-        if let Some([a, b, c, d]) = edge_rule_points(mesh, e) {
-            mesh[e].new_pos = 0.125 * (a + b) + 0.375 * (c + d);
+        if let Some(points) = edge_rule_points(mesh, e) {
+            mesh[e].new_pos = rule(points);
         }
     }
     after_points(mesh);
