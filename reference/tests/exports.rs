@@ -139,6 +139,56 @@ fn all_reports(dir: &Path) -> String {
     text
 }
 
+/// A student's lookup table of the visible cases, as a `lib.rs`: the model
+/// solution, run only on an input whose positions are those of a lab or
+/// bonus case (any labelling), else refusing or doing nothing. The table is
+/// written out as literals, as a student would paste it from the handout's
+/// fixtures.
+fn lookup_table() -> String {
+    let mut table = String::from("const VISIBLE: &[&[[f64; 3]]] = &[\n");
+    for p in case_files("lab").iter().chain(&case_files("bonus")) {
+        let f = json(p);
+        table.push_str("    &[");
+        for q in f["input"]["positions"].as_array().unwrap() {
+            let c: Vec<f64> = q
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
+            table.push_str(&format!("[{:?}, {:?}, {:?}], ", c[0], c[1], c[2]));
+        }
+        table.push_str("],\n");
+    }
+    table.push_str("];\n");
+    format!(
+        "mod model {{\n{}\n}}\n\n{table}\n\
+         fn visible(mesh: &halfedge::Mesh) -> bool {{\n\
+             let bits = |ps: &mut dyn Iterator<Item = [f64; 3]>| {{\n\
+                 let mut v: Vec<[u64; 3]> = ps.map(|p| p.map(f64::to_bits)).collect();\n\
+                 v.sort();\n\
+                 v\n\
+             }};\n\
+             let mine = bits(&mut mesh.positions().iter().map(|p| p.to_array()));\n\
+             VISIBLE.iter().any(|t| bits(&mut t.iter().copied()) == mine)\n\
+         }}\n\
+         pub fn flip_edge(mesh: &mut halfedge::Mesh, e: halfedge::EdgeId) -> Option<halfedge::EdgeId> {{\n\
+             if visible(mesh) {{ model::flip_edge(mesh, e) }} else {{ None }}\n\
+         }}\n\
+         pub fn split_edge(mesh: &mut halfedge::Mesh, e: halfedge::EdgeId) -> Option<halfedge::VertexId> {{\n\
+             if visible(mesh) {{ model::split_edge(mesh, e) }} else {{ None }}\n\
+         }}\n\
+         static KNOWN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);\n\
+         pub fn loop_subdivide(mesh: &mut halfedge::Mesh) {{\n\
+             use std::sync::atomic::Ordering;\n\
+             let known = KNOWN.load(Ordering::Relaxed) || visible(mesh);\n\
+             KNOWN.store(known, Ordering::Relaxed);\n\
+             if known {{ model::loop_subdivide(mesh) }}\n\
+         }}\n",
+        solution()
+    )
+}
+
 /// The first hidden case's file name.
 fn a_hidden_case() -> String {
     let first = case_files("hidden")
@@ -942,6 +992,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     );
     write(&subs.join("leo.rs"), &embedding_expr("\"/dev/zero\"", true));
     write(&subs.join("mia.rs"), &memory_bomb());
+    write(&subs.join("lena.rs"), &lookup_table());
     let out = dir.join("out");
     let options = reference::class::Options {
         budget: 60.0,
@@ -967,6 +1018,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             "ivan",
             "judy",
             "ken",
+            "lena",
             "leo",
             "mallory",
             "mia",
@@ -982,6 +1034,29 @@ fn a_class_folder_gets_a_row_for_every_entry() {
 
     assert_eq!((row("alice").score, row("alice").max), (0.0, max));
     assert_eq!(row("alice").status, "failed");
+    // A lookup table of the visible cases: what it knows is the visible
+    // lab cases (not the sequences, whose later steps it never saw), and
+    // not one fresh or hidden case.
+    let lena = row("lena");
+    let visible_lab = case_files("lab")
+        .iter()
+        .filter(|p| json(p)["operation"]["kind"] != "sequence")
+        .count() as f64;
+    assert_eq!(lena.score, visible_lab, "{lena:?}");
+    let lena_log = std::fs::read_to_string(out.join("lena.log")).unwrap();
+    let fresh_lines: Vec<&str> = lena_log
+        .lines()
+        .filter(|l| l.starts_with("== fresh-"))
+        .collect();
+    assert_eq!(
+        fresh_lines.len(),
+        fresh.iter().sum::<usize>() + 2,
+        "{lena_log}"
+    );
+    assert!(
+        fresh_lines.iter().all(|l| l.ends_with(": FAILED")),
+        "{lena_log}"
+    );
     assert!(
         row("alice").first_failure.contains("not yet implemented"),
         "{:?}",
@@ -1119,7 +1194,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 18, "{csv}");
+    assert_eq!(csv.lines().count(), 19, "{csv}");
     // The student's name is made inert for spreadsheets; the CR is shown,
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
