@@ -163,6 +163,15 @@ fn each_wrong_implementation_gets_its_message() {
         );
         if let Some(detail) = detail {
             assert!(g.stdout.contains(detail), "expected {detail:?}\n{context}");
+            // A hint is also in the last lines, where students read.
+            if let Some(hint) = detail.strip_prefix("hint: ") {
+                let tail: Vec<&str> = g.stdout.lines().rev().take(6).collect();
+                assert!(
+                    tail.iter()
+                        .any(|l| l.contains("[info] hint for ") && l.contains(hint)),
+                    "the hint is not in the last lines:\n{context}"
+                );
+            }
         }
         assert_eq!(
             transcript.lines().last(),
