@@ -792,21 +792,12 @@ fn landlock(_: &Build) -> Result<i32, String> {
 #[cfg(target_os = "linux")]
 fn landlock(build: &Build) -> Result<i32, String> {
     use landlock::{
-        Access, AccessFs, AccessNet, BitFlags, CompatLevel, Compatible, LandlockStatus,
-        PathBeneath, PathFd, Ruleset, RulesetAttr, RulesetCreatedAttr, RulesetStatus, Scope, ABI,
+        Access, AccessFs, BitFlags, LandlockStatus, PathBeneath, PathFd, RulesetCreatedAttr,
+        RulesetStatus, ABI,
     };
     let abi = ABI::V6;
     let fail = |e: &dyn std::fmt::Display| format!("Landlock: {e}");
-    let mut ruleset = Ruleset::default()
-        .set_compatibility(CompatLevel::BestEffort)
-        .handle_access(AccessFs::from_all(abi))
-        .map_err(|e| fail(&e))?
-        .handle_access(AccessNet::from_all(abi))
-        .map_err(|e| fail(&e))?
-        .scope(Scope::from_all(abi))
-        .map_err(|e| fail(&e))?
-        .create()
-        .map_err(|e| fail(&e))?;
+    let mut ruleset = crate::sandbox::denying_everything()?;
     let read: BitFlags<AccessFs> = AccessFs::from_read(abi);
     // The toolchain, the system's compilers, linkers and libraries, the
     // dependencies' sources and the copy of the lab: read only.

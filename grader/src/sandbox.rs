@@ -213,16 +213,18 @@ fn landlock(_: &std::fs::File) -> Result<i32, String> {
     Ok(0)
 }
 
-/// Applies Landlock; returns the ABI in force (0 when the kernel has none).
+/// A Landlock ruleset that handles every file and network access and
+/// scopes signals and abstract sockets (best effort up to ABI 6): nothing
+/// is allowed until a launcher adds its rules. Shared by the case's and
+/// the build's launchers.
 #[cfg(target_os = "linux")]
-fn landlock(program: &std::fs::File) -> Result<i32, String> {
+pub(crate) fn denying_everything() -> Result<landlock::RulesetCreated, String> {
     use landlock::{
-        Access, AccessFs, AccessNet, CompatLevel, Compatible, LandlockStatus, PathBeneath, PathFd,
-        Ruleset, RulesetAttr, RulesetCreatedAttr, RulesetStatus, Scope, ABI,
+        Access, AccessFs, AccessNet, CompatLevel, Compatible, Ruleset, RulesetAttr, Scope, ABI,
     };
     let abi = ABI::V6;
     let fail = |e: &dyn std::fmt::Display| format!("Landlock: {e}");
-    let mut ruleset = Ruleset::default()
+    Ruleset::default()
         .set_compatibility(CompatLevel::BestEffort)
         .handle_access(AccessFs::from_all(abi))
         .map_err(|e| fail(&e))?
@@ -231,7 +233,17 @@ fn landlock(program: &std::fs::File) -> Result<i32, String> {
         .scope(Scope::from_all(abi))
         .map_err(|e| fail(&e))?
         .create()
-        .map_err(|e| fail(&e))?;
+        .map_err(|e| fail(&e))
+}
+
+/// Applies Landlock; returns the ABI in force (0 when the kernel has none).
+#[cfg(target_os = "linux")]
+fn landlock(program: &std::fs::File) -> Result<i32, String> {
+    use landlock::{
+        AccessFs, LandlockStatus, PathBeneath, PathFd, RulesetCreatedAttr, RulesetStatus,
+    };
+    let fail = |e: &dyn std::fmt::Display| format!("Landlock: {e}");
+    let mut ruleset = denying_everything()?;
     // The program by its open descriptor: its folder may be closed to
     // `nobody`, which this process may be by now.
     ruleset = ruleset
