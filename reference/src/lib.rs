@@ -11,7 +11,8 @@
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`handout`]: exporting the student workspace.
-//! - [`class`]: grading a folder of submissions.
+//! - [`class`]: grading a folder of submissions; [`similarity`]: pairs of
+//!   submissions that look alike (hints for the TA).
 //! - [`tokens`]: Rust source as normalised tokens, and the runs two
 //!   sources share (the handout's no-solution check).
 //!
@@ -24,6 +25,7 @@ pub mod handout;
 pub mod hostile;
 pub mod lookup;
 pub mod mutants;
+pub mod similarity;
 pub mod solution;
 pub mod tokens;
 
