@@ -12,7 +12,8 @@
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`handout`]: exporting the student workspace.
 //! - [`class`]: grading a folder of submissions; [`similarity`]: pairs of
-//!   submissions that look alike (hints for the TA).
+//!   submissions that look alike (hints for the TA); [`overview`]: the
+//!   class overview page.
 //! - [`tokens`]: Rust source as normalised tokens, and the runs two
 //!   sources share (the handout's no-solution check).
 //!
@@ -25,6 +26,7 @@ pub mod handout;
 pub mod hostile;
 pub mod lookup;
 pub mod mutants;
+pub mod overview;
 pub mod similarity;
 pub mod solution;
 pub mod tokens;
