@@ -67,13 +67,44 @@ pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     }
     // c and d already joined (every edge of a tetrahedron): the flip would
     // make a second edge between them.
-    let c = mesh[mesh[mesh[h].next].next].vertex;
-    let d = mesh[mesh[mesh[t].next].next].vertex;
-    if c == d || mesh.find_edge(c, d).is_some() {
+    let (h1, t1) = (mesh[h].next, mesh[t].next);
+    let c = mesh[mesh[h1].next].vertex;
+    let d = mesh[mesh[t1].next].vertex;
+    // d == a or b only on a degenerate triangle; find_edge(c, d) would
+    // find the edge c-a or c-b there, which the walk below skips.
+    if c == d || d == mesh[h].vertex || d == mesh[t].vertex || joined_elsewhere(mesh, h1, d) {
         return None;
     }
     relink_flip(mesh, e);
     Some(e)
+}
+
+/// Whether `c`, where `h1` (b->c) ends, already has an edge to `d`. The
+/// walk around c starts after c->a (its halfedge in h's triangle) and stops
+/// at c->b (twin of h1): those two lead to a and b, never to d, and their
+/// records are the ones the flip just read. It is `find_edge(c, d)` without
+/// the two steps, the most time a flip spends.
+fn joined_elsewhere(mesh: &Mesh, h1: HalfedgeId, d: VertexId) -> bool {
+    let h2 = mesh[h1].next; // c->a
+    let last = mesh[h1].twin; // c->b
+    let mut g = mesh[mesh[h2].twin].next;
+    let mut steps = 0;
+    while g != last {
+        let t = mesh[g].twin;
+        if mesh[t].vertex == d {
+            return true;
+        }
+        g = mesh[t].next;
+        steps += 1;
+        if g == h2 || steps > mesh.num_halfedges() {
+            panic!(
+                "the walk around {} never came back to where it started: the mesh's links \
+                 are broken (call mesh.validate() to find where)",
+                mesh[h2].vertex
+            );
+        }
+    }
+    false
 }
 
 /// The relinking part of a flip, with no checks: `e`'s two faces are taken
@@ -274,9 +305,40 @@ fn around_vertex(mesh: &Mesh, v: VertexId) -> (usize, DVec3, bool) {
     }
 }
 
+/// The first records the walk around vertex `index` reads, in waves as
+/// [`fetch_ahead`]'s: its halfedge, then that one's twin and face, then the
+/// first neighbour and the next halfedge of the walk. The rest of the walk
+/// depends on what it reads.
+#[inline(always)]
+fn fetch_ring(mesh: &Mesh, index: usize, wave: usize) {
+    let (vertices, _, faces, halfedges) = mesh.records();
+    let Some(h) = vertices.get(index).map(|v| v.halfedge) else {
+        return;
+    };
+    if wave == 0 {
+        return prefetch(halfedges, h.index());
+    }
+    let Some(hr) = halfedges.get(h.index()) else {
+        return;
+    };
+    if wave == 1 {
+        prefetch(halfedges, hr.twin.index());
+        prefetch(faces, hr.face.index());
+        return;
+    }
+    if let Some(tr) = halfedges.get(hr.twin.index()) {
+        prefetch(vertices, tr.vertex.index());
+        prefetch(halfedges, tr.next.index());
+    }
+}
+
 /// Step 1a: where each old vertex goes, into `new_pos`; marks it old.
 pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
     for v in mesh.vertex_ids() {
+        let i = v.index();
+        fetch_ring(mesh, i + AHEAD, 0);
+        fetch_ring(mesh, i + AHEAD / 2, 1);
+        fetch_ring(mesh, i + AHEAD / 4, 2);
         let p = mesh[v].pos;
         let (n, sum, on_boundary) = around_vertex(mesh, v);
         mesh[v].new_pos = if on_boundary {
@@ -293,7 +355,13 @@ pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
 /// Step 1b: where the vertex splitting each edge goes, into the edge's
 /// `new_pos`; marks the edge old.
 pub fn edge_points(mesh: &mut Mesh) {
+    let count = mesh.num_edges();
+    let id = |i: usize| (i < count).then(|| EdgeId::from_index(i));
     for e in mesh.edge_ids() {
+        let i = e.index();
+        for wave in 0..WAVES {
+            fetch_ahead(mesh, id(i + (AHEAD >> wave)), wave);
+        }
         let h = mesh[e].halfedge;
         let t = mesh[h].twin;
         let (a, b) = (mesh[mesh[h].vertex].pos, mesh[mesh[t].vertex].pos);
@@ -311,7 +379,10 @@ pub fn edge_points(mesh: &mut Mesh) {
 /// How many edges ahead the split and flip loops ask the CPU to fetch the
 /// records they will touch: a split or flip reads about ten records in
 /// unrelated places, and waiting for each in turn is most of its time.
-const AHEAD: usize = 16;
+const AHEAD: usize = 32;
+/// Waves of [`fetch_ahead`], the first `AHEAD` edges ahead, each next one
+/// half as far.
+const WAVES: usize = 5;
 
 /// Asks the CPU to bring `records[index]` into the cache (no effect on the
 /// result; nothing happens if `index` is out of range or on other CPUs).
@@ -331,13 +402,14 @@ fn prefetch<T>(records: &[T], index: usize) {
     let _ = (records, index);
 }
 
-/// The records the split or flip of `edge` will read, in three waves, each
-/// reading only what the previous wave fetched: `wave` 0 fetches the edge's
-/// halfedge, 1 its twin, next, vertex and face, 2 the twin's next, vertex
-/// and face and the face's third halfedge.
+/// The records the split or flip of `edge` will read, in five waves, each
+/// reading only what the previous waves fetched: `wave` 0 fetches the
+/// edge's halfedge h, 1 its twin t, next, vertex and face, 2 t's next,
+/// vertex and face and h's face's third halfedge, 3 that one's vertex (c)
+/// and t's face's third halfedge, 4 that one's vertex (d).
 #[inline(always)]
-fn fetch_ahead(mesh: &Mesh, edge: Option<&EdgeId>, wave: usize) {
-    let Some(&e) = edge else { return };
+fn fetch_ahead(mesh: &Mesh, edge: Option<EdgeId>, wave: usize) {
+    let Some(e) = edge else { return };
     let (vertices, edges, faces, halfedges) = mesh.records();
     let Some(h) = edges.get(e.index()).map(|r| r.halfedge) else {
         return;
@@ -355,22 +427,41 @@ fn fetch_ahead(mesh: &Mesh, edge: Option<&EdgeId>, wave: usize) {
         prefetch(faces, hr.face.index());
         return;
     }
-    if let Some(tr) = halfedges.get(hr.twin.index()) {
-        prefetch(halfedges, tr.next.index());
-        prefetch(vertices, tr.vertex.index());
-        prefetch(faces, tr.face.index());
+    let tr = halfedges.get(hr.twin.index());
+    let next = halfedges.get(hr.next.index());
+    if wave == 2 {
+        if let Some(tr) = tr {
+            prefetch(halfedges, tr.next.index());
+            prefetch(vertices, tr.vertex.index());
+            prefetch(faces, tr.face.index());
+        }
+        if let Some(next) = next {
+            prefetch(halfedges, next.next.index());
+        }
+        return;
     }
-    if let Some(next) = halfedges.get(hr.next.index()) {
-        prefetch(halfedges, next.next.index());
+    // The far corners: c (h's third vertex) and d (t's).
+    let t1 = tr.and_then(|tr| halfedges.get(tr.next.index()));
+    if wave == 3 {
+        if let Some(h2) = next.and_then(|n| halfedges.get(n.next.index())) {
+            prefetch(vertices, h2.vertex.index());
+        }
+        if let Some(t1) = t1 {
+            prefetch(halfedges, t1.next.index());
+        }
+        return;
+    }
+    if let Some(t2) = t1.and_then(|t1| halfedges.get(t1.next.index())) {
+        prefetch(vertices, t2.vertex.index());
     }
 }
 
 /// Fetches ahead for the loop over `edges` at position `i`.
 #[inline(always)]
 fn fetch_for(mesh: &Mesh, edges: &[EdgeId], i: usize) {
-    fetch_ahead(mesh, edges.get(i + AHEAD), 0);
-    fetch_ahead(mesh, edges.get(i + AHEAD / 2), 1);
-    fetch_ahead(mesh, edges.get(i + AHEAD / 4), 2);
+    for wave in 0..WAVES {
+        fetch_ahead(mesh, edges.get(i + (AHEAD >> wave)).copied(), wave);
+    }
 }
 
 /// Step 2: splits each of `edges` (the old ones) with `split`. The new
