@@ -305,40 +305,15 @@ fn around_vertex(mesh: &Mesh, v: VertexId) -> (usize, DVec3, bool) {
     }
 }
 
-/// The first records the walk around vertex `index` reads, in waves as
-/// [`fetch_ahead`]'s: its halfedge, then that one's twin and face, then the
-/// first neighbour and the next halfedge of the walk. The rest of the walk
-/// depends on what it reads.
-#[inline(always)]
-fn fetch_ring(mesh: &Mesh, index: usize, wave: usize) {
-    let (vertices, _, faces, halfedges) = mesh.records();
-    let Some(h) = vertices.get(index).map(|v| v.halfedge) else {
-        return;
-    };
-    if wave == 0 {
-        return prefetch(halfedges, h.index());
-    }
-    let Some(hr) = halfedges.get(h.index()) else {
-        return;
-    };
-    if wave == 1 {
-        prefetch(halfedges, hr.twin.index());
-        prefetch(faces, hr.face.index());
-        return;
-    }
-    if let Some(tr) = halfedges.get(hr.twin.index()) {
-        prefetch(vertices, tr.vertex.index());
-        prefetch(halfedges, tr.next.index());
-    }
-}
-
 /// Step 1a: where each old vertex goes, into `new_pos`; marks it old.
 pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
     for v in mesh.vertex_ids() {
         let i = v.index();
-        fetch_ring(mesh, i + AHEAD, 0);
-        fetch_ring(mesh, i + AHEAD / 2, 1);
-        fetch_ring(mesh, i + AHEAD / 4, 2);
+        // The walk's first three records: the rest depends on what it reads.
+        for wave in 0..3 {
+            let ahead = mesh.records().0.get(i + (AHEAD >> wave));
+            fetch_ahead(mesh, ahead.map(|r| r.halfedge), wave);
+        }
         let p = mesh[v].pos;
         let (n, sum, on_boundary) = around_vertex(mesh, v);
         mesh[v].new_pos = if on_boundary {
@@ -355,12 +330,10 @@ pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
 /// Step 1b: where the vertex splitting each edge goes, into the edge's
 /// `new_pos`; marks the edge old.
 pub fn edge_points(mesh: &mut Mesh) {
-    let count = mesh.num_edges();
-    let id = |i: usize| (i < count).then(|| EdgeId::from_index(i));
     for e in mesh.edge_ids() {
-        let i = e.index();
         for wave in 0..WAVES {
-            fetch_ahead(mesh, id(i + (AHEAD >> wave)), wave);
+            let ahead = mesh.records().1.get(e.index() + (AHEAD >> wave));
+            fetch_ahead(mesh, ahead.map(|r| r.halfedge), wave);
         }
         let h = mesh[e].halfedge;
         let t = mesh[h].twin;
@@ -402,18 +375,15 @@ fn prefetch<T>(records: &[T], index: usize) {
     let _ = (records, index);
 }
 
-/// The records the split or flip of `edge` will read, in five waves, each
-/// reading only what the previous waves fetched: `wave` 0 fetches the
-/// edge's halfedge h, 1 its twin t, next, vertex and face, 2 t's next,
-/// vertex and face and h's face's third halfedge, 3 that one's vertex (c)
-/// and t's face's third halfedge, 4 that one's vertex (d).
+/// The records a split or flip of `h`'s edge (or a walk around `h`'s
+/// vertex) will read, in five waves, each reading only what the previous
+/// waves fetched: `wave` 0 fetches h, 1 its twin t, next, vertex and
+/// face, 2 t's next, vertex and face and h's face's third halfedge, 3 that
+/// one's vertex (c) and t's face's third halfedge, 4 that one's vertex (d).
 #[inline(always)]
-fn fetch_ahead(mesh: &Mesh, edge: Option<EdgeId>, wave: usize) {
-    let Some(e) = edge else { return };
-    let (vertices, edges, faces, halfedges) = mesh.records();
-    let Some(h) = edges.get(e.index()).map(|r| r.halfedge) else {
-        return;
-    };
+fn fetch_ahead(mesh: &Mesh, h: Option<HalfedgeId>, wave: usize) {
+    let Some(h) = h else { return };
+    let (vertices, _, faces, halfedges) = mesh.records();
     if wave == 0 {
         return prefetch(halfedges, h.index());
     }
@@ -460,7 +430,8 @@ fn fetch_ahead(mesh: &Mesh, edge: Option<EdgeId>, wave: usize) {
 #[inline(always)]
 fn fetch_for(mesh: &Mesh, edges: &[EdgeId], i: usize) {
     for wave in 0..WAVES {
-        fetch_ahead(mesh, edges.get(i + (AHEAD >> wave)).copied(), wave);
+        let ahead = edges.get(i + (AHEAD >> wave));
+        fetch_ahead(mesh, ahead.map(|&e| mesh[e].halfedge), wave);
     }
 }
 
