@@ -10,6 +10,8 @@
 //!   lookup table of the visible cases.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
+//! - [`deadline`]: the last commit before a deadline, read out of a
+//!   student's repository without running anything of theirs.
 //! - [`handout`]: exporting the student workspace.
 //! - [`class`]: grading a folder of submissions; [`similarity`]: pairs of
 //!   submissions that look alike (hints for the TA); [`overview`]: the
@@ -21,6 +23,7 @@
 
 pub mod cases;
 pub mod class;
+pub mod deadline;
 pub mod fresh;
 pub mod handout;
 pub mod hostile;
