@@ -369,36 +369,62 @@ fn time_subdivide(input: &Mesh, rounds: usize, runs: usize) -> Row {
     }
 }
 
+/// Target of a full warm grade of the reference (issue 20), seconds.
+const GRADE_TARGET: f64 = 0.5;
+
 /// Full grades of the reference: every case in its locked-in child, as a
 /// student's `cargo run -p grader` grades (warm: the programs are built).
+/// The cases and child runs counted are the grader's own (its JSON).
 fn grade_figures(runs: usize) -> Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-    let cases = reference::cases::builtin(Weights::Warren).len();
     let mut times = Vec::new();
+    let mut counted = (0, 0);
     for _ in 0..runs {
         let start = Instant::now();
-        let status = Command::new(&exe)
+        let out = Command::new(&exe)
             .args(["grade", "--bonus", "--format", "json"])
-            .stdout(Stdio::null())
-            .status()
+            .stderr(Stdio::null())
+            .output()
             .map_err(|e| e.to_string())?;
-        if !status.success() {
+        times.push(start.elapsed().as_secs_f64());
+        if !out.status.success() {
             return Err("the reference did not pass its own grade".into());
         }
-        times.push(start.elapsed().as_secs_f64());
+        let json: serde_json::Value =
+            serde_json::from_slice(&out.stdout).map_err(|e| format!("the grader's JSON: {e}"))?;
+        let cases = json["cases"].as_array().map_or(0, Vec::len);
+        let child_runs = json["plan"]["runs"].as_u64().unwrap_or(0);
+        counted = (cases, child_runs);
     }
+    let stats = Stats::of(times);
     println!(
-        "full warm grade of the reference ({cases} built-in cases, bonus included, child \
-         processes and all): {} s",
-        Stats::of(times).s()
+        "full warm grade of the reference ({} cases of lab/ and bonus/, {} child runs with \
+         every labelling; no fresh cases, which only class and Gradescope grading add): {} s \
+         (target {GRADE_TARGET:.1} s: {})",
+        counted.0,
+        counted.1,
+        stats.s(),
+        if stats.median <= GRADE_TARGET {
+            "met"
+        } else {
+            "not met"
+        }
     );
     Ok(())
 }
 
+/// Targets of the student's loop (issue 20): edit -> verdict on the stubs
+/// and on a correct solution, seconds.
+const EDIT_TARGET_STUBS: f64 = 1.0;
+const EDIT_TARGET_CORRECT: f64 = 1.2;
+
 /// A student's edit -> verdict: the student's file is touched (so cargo
 /// rebuilds it as after an edit) and `cargo run -p grader` runs to its
-/// verdict, in the dev profile students use. One untimed run first builds
-/// everything else.
+/// verdict, in the dev profile students use. Twice: in the lab as it
+/// stands (the stubs, unless someone edited them), and in a handout copy
+/// with the model solution pasted in as a student's correct answer (its
+/// build in `target/bench-edit`, kept between runs). One untimed run first
+/// builds everything else.
 fn edit_to_verdict(runs: usize) -> Result<(), String> {
     let root = reference::lab_root();
     let student = root.join("crates/meshedit/src/lib.rs");
@@ -406,35 +432,72 @@ fn edit_to_verdict(runs: usize) -> Result<(), String> {
         println!("edit -> verdict: skipped, {} not found", student.display());
         return Ok(());
     }
+    let as_it_stands = time_edits(&root, None, runs)?;
+    print_edit("the crate as it stands", &as_it_stands, EDIT_TARGET_STUBS);
+
+    let copy = std::env::temp_dir().join(format!("meshlab-bench-edit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&copy);
+    reference::handout::copy_lab(&root, &copy, reference::handout::Purpose::Handout)?;
+    let pasted = copy.join("crates/meshedit/src/lib.rs");
+    std::fs::write(&pasted, include_str!("solution.rs"))
+        .map_err(|e| format!("{}: {e}", pasted.display()))?;
+    let correct = time_edits(&copy, Some(&root.join("target/bench-edit")), runs);
+    let _ = std::fs::remove_dir_all(&copy);
+    print_edit(
+        "a correct solution (the model's, pasted in)",
+        &correct?,
+        EDIT_TARGET_CORRECT,
+    );
+    Ok(())
+}
+
+fn print_edit(what: &str, times: &Stats, target: f64) {
+    println!(
+        "edit -> verdict, {what} (touch crates/meshedit/src/lib.rs, `cargo run -p grader`, \
+         dev profile: rebuild, link, grade): {} s (target {target:.1} s: {})",
+        times.s(),
+        if times.median <= target {
+            "met"
+        } else {
+            "not met"
+        }
+    );
+}
+
+/// Times `runs` edits of `lab`'s student file, each followed by `cargo run
+/// -p grader` to its verdict, after one untimed run.
+fn time_edits(lab: &Path, target_dir: Option<&Path>, runs: usize) -> Result<Stats, String> {
+    let student = lab.join("crates/meshedit/src/lib.rs");
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let grade = |quiet_build: bool| -> Result<f64, String> {
         touch(&student)?;
         let start = Instant::now();
         let mut command = Command::new(&cargo);
         command
-            .current_dir(&root)
+            .current_dir(lab)
             .args(["run", "--quiet", "-p", "grader"])
             .stdout(Stdio::null());
+        if let Some(dir) = target_dir {
+            command.arg("--target-dir").arg(dir);
+        }
         if quiet_build {
             command.stderr(Stdio::null());
         }
-        // The verdict on the stubs is "fail"; only the time matters here.
+        // The verdict (pass or fail) does not matter here, only the time.
         command
             .status()
             .map_err(|e| format!("cannot run cargo: {e}"))?;
         Ok(start.elapsed().as_secs_f64())
     };
-    eprintln!("edit -> verdict: building the student's debug programs once (untimed)...");
+    eprintln!(
+        "edit -> verdict: building the student's debug programs in {} once (untimed)...",
+        lab.display()
+    );
     grade(false)?;
     let times = (0..runs)
         .map(|_| grade(true))
         .collect::<Result<Vec<_>, _>>()?;
-    println!(
-        "edit -> verdict (touch crates/meshedit/src/lib.rs, `cargo run -p grader`, dev \
-         profile: rebuild, link, grade the crate as it stands): {} s",
-        Stats::of(times).s()
-    );
-    Ok(())
+    Ok(Stats::of(times))
 }
 
 /// Sets a file's modification time to now, as saving it in an editor does.

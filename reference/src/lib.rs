@@ -10,8 +10,12 @@
 //!   lookup table of the visible cases.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
+//! - [`deadline`]: the last commit before a deadline, read out of a
+//!   student's repository without running anything of theirs.
 //! - [`handout`]: exporting the student workspace.
-//! - [`class`]: grading a folder of submissions.
+//! - [`class`]: grading a folder of submissions; [`similarity`]: pairs of
+//!   submissions that look alike (hints for the TA); [`overview`]: the
+//!   class overview page.
 //! - [`tokens`]: Rust source as normalised tokens, and the runs two
 //!   sources share (the handout's no-solution check).
 //!
@@ -19,11 +23,14 @@
 
 pub mod cases;
 pub mod class;
+pub mod deadline;
 pub mod fresh;
 pub mod handout;
 pub mod hostile;
 pub mod lookup;
 pub mod mutants;
+pub mod overview;
+pub mod similarity;
 pub mod solution;
 pub mod tokens;
 

@@ -67,13 +67,44 @@ pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     }
     // c and d already joined (every edge of a tetrahedron): the flip would
     // make a second edge between them.
-    let c = mesh[mesh[mesh[h].next].next].vertex;
-    let d = mesh[mesh[mesh[t].next].next].vertex;
-    if c == d || mesh.find_edge(c, d).is_some() {
+    let (h1, t1) = (mesh[h].next, mesh[t].next);
+    let c = mesh[mesh[h1].next].vertex;
+    let d = mesh[mesh[t1].next].vertex;
+    // d == a or b only on a degenerate triangle; find_edge(c, d) would
+    // find the edge c-a or c-b there, which the walk below skips.
+    if c == d || d == mesh[h].vertex || d == mesh[t].vertex || joined_elsewhere(mesh, h1, d) {
         return None;
     }
     relink_flip(mesh, e);
     Some(e)
+}
+
+/// Whether `c`, where `h1` (b->c) ends, already has an edge to `d`. The
+/// walk around c starts after c->a (its halfedge in h's triangle) and stops
+/// at c->b (twin of h1): those two lead to a and b, never to d, and their
+/// records are the ones the flip just read. It is `find_edge(c, d)` without
+/// the two steps, the most time a flip spends.
+fn joined_elsewhere(mesh: &Mesh, h1: HalfedgeId, d: VertexId) -> bool {
+    let h2 = mesh[h1].next; // c->a
+    let last = mesh[h1].twin; // c->b
+    let mut g = mesh[mesh[h2].twin].next;
+    let mut steps = 0;
+    while g != last {
+        let t = mesh[g].twin;
+        if mesh[t].vertex == d {
+            return true;
+        }
+        g = mesh[t].next;
+        steps += 1;
+        if g == h2 || steps > mesh.num_halfedges() {
+            panic!(
+                "the walk around {} never came back to where it started: the mesh's links \
+                 are broken (call mesh.validate() to find where)",
+                mesh[h2].vertex
+            );
+        }
+    }
+    false
 }
 
 /// The relinking part of a flip, with no checks: `e`'s two faces are taken
@@ -277,6 +308,12 @@ fn around_vertex(mesh: &Mesh, v: VertexId) -> (usize, DVec3, bool) {
 /// Step 1a: where each old vertex goes, into `new_pos`; marks it old.
 pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
     for v in mesh.vertex_ids() {
+        let i = v.index();
+        // The walk's first three records: the rest depends on what it reads.
+        for wave in 0..3 {
+            let ahead = mesh.records().0.get(i + (AHEAD >> wave));
+            fetch_ahead(mesh, ahead.map(|r| r.halfedge), wave);
+        }
         let p = mesh[v].pos;
         let (n, sum, on_boundary) = around_vertex(mesh, v);
         mesh[v].new_pos = if on_boundary {
@@ -294,6 +331,10 @@ pub fn vertex_points(mesh: &mut Mesh, weights: Weights) {
 /// `new_pos`; marks the edge old.
 pub fn edge_points(mesh: &mut Mesh) {
     for e in mesh.edge_ids() {
+        for wave in 0..WAVES {
+            let ahead = mesh.records().1.get(e.index() + (AHEAD >> wave));
+            fetch_ahead(mesh, ahead.map(|r| r.halfedge), wave);
+        }
         let h = mesh[e].halfedge;
         let t = mesh[h].twin;
         let (a, b) = (mesh[mesh[h].vertex].pos, mesh[mesh[t].vertex].pos);
@@ -308,6 +349,92 @@ pub fn edge_points(mesh: &mut Mesh) {
     }
 }
 
+/// How many edges ahead the split and flip loops ask the CPU to fetch the
+/// records they will touch: a split or flip reads about ten records in
+/// unrelated places, and waiting for each in turn is most of its time.
+const AHEAD: usize = 32;
+/// Waves of [`fetch_ahead`], the first `AHEAD` edges ahead, each next one
+/// half as far.
+const WAVES: usize = 5;
+
+/// Asks the CPU to bring `records[index]` into the cache (no effect on the
+/// result; nothing happens if `index` is out of range or on other CPUs).
+#[inline(always)]
+fn prefetch<T>(records: &[T], index: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(record) = records.get(index) {
+        // SAFETY: a prefetch of a valid address reads nothing and writes nothing.
+        unsafe {
+            std::arch::x86_64::_mm_prefetch(
+                (record as *const T).cast::<i8>(),
+                std::arch::x86_64::_MM_HINT_T0,
+            )
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (records, index);
+}
+
+/// The records a split or flip of `h`'s edge (or a walk around `h`'s
+/// vertex) will read, in five waves, each reading only what the previous
+/// waves fetched: `wave` 0 fetches h, 1 its twin t, next, vertex and
+/// face, 2 t's next, vertex and face and h's face's third halfedge, 3 that
+/// one's vertex (c) and t's face's third halfedge, 4 that one's vertex (d).
+#[inline(always)]
+fn fetch_ahead(mesh: &Mesh, h: Option<HalfedgeId>, wave: usize) {
+    let Some(h) = h else { return };
+    let (vertices, _, faces, halfedges) = mesh.records();
+    if wave == 0 {
+        return prefetch(halfedges, h.index());
+    }
+    let Some(hr) = halfedges.get(h.index()) else {
+        return;
+    };
+    if wave == 1 {
+        prefetch(halfedges, hr.twin.index());
+        prefetch(halfedges, hr.next.index());
+        prefetch(vertices, hr.vertex.index());
+        prefetch(faces, hr.face.index());
+        return;
+    }
+    let tr = halfedges.get(hr.twin.index());
+    let next = halfedges.get(hr.next.index());
+    if wave == 2 {
+        if let Some(tr) = tr {
+            prefetch(halfedges, tr.next.index());
+            prefetch(vertices, tr.vertex.index());
+            prefetch(faces, tr.face.index());
+        }
+        if let Some(next) = next {
+            prefetch(halfedges, next.next.index());
+        }
+        return;
+    }
+    // The far corners: c (h's third vertex) and d (t's).
+    let t1 = tr.and_then(|tr| halfedges.get(tr.next.index()));
+    if wave == 3 {
+        if let Some(h2) = next.and_then(|n| halfedges.get(n.next.index())) {
+            prefetch(vertices, h2.vertex.index());
+        }
+        if let Some(t1) = t1 {
+            prefetch(halfedges, t1.next.index());
+        }
+        return;
+    }
+    if let Some(t2) = t1.and_then(|t1| halfedges.get(t1.next.index())) {
+        prefetch(vertices, t2.vertex.index());
+    }
+}
+
+/// Fetches ahead for the loop over `edges` at position `i`.
+#[inline(always)]
+fn fetch_for(mesh: &Mesh, edges: &[EdgeId], i: usize) {
+    for wave in 0..WAVES {
+        let ahead = edges.get(i + (AHEAD >> wave));
+        fetch_ahead(mesh, ahead.map(|&e| mesh[e].halfedge), wave);
+    }
+}
+
 /// Step 2: splits each of `edges` (the old ones) with `split`. The new
 /// vertex is new; of the edges at it, those across the old edge are new,
 /// the two halves of the old edge are not.
@@ -316,7 +443,8 @@ pub fn split_edges(
     edges: &[EdgeId],
     split: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
 ) {
-    for &e in edges {
+    for (i, &e) in edges.iter().enumerate() {
+        fetch_for(mesh, edges, i);
         let (a, b) = mesh.edge_vertices(e);
         let m = split(mesh, e).expect("split_edge returned None for an edge of a triangle mesh");
         mesh[m].is_new = true;
@@ -352,12 +480,12 @@ pub fn flip_old_new(
     edges: &[EdgeId],
     flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
 ) {
-    for &e in edges {
-        // The flag first: half the edges are old, and reading it alone keeps
-        // their halfedges and vertices out of the cache.
-        if !mesh[e].is_new {
-            continue;
-        }
+    // The flag first, in one pass: half the edges are old, and reading it
+    // alone keeps their halfedges and vertices out of the cache, and the
+    // fetching ahead below looks only at edges that will be looked at.
+    let new: Vec<EdgeId> = edges.iter().copied().filter(|&e| mesh[e].is_new).collect();
+    for (i, &e) in new.iter().enumerate() {
+        fetch_for(mesh, &new, i);
         let (a, b) = mesh.edge_vertices(e);
         if mesh[a].is_new != mesh[b].is_new {
             flip(mesh, e);

@@ -53,7 +53,7 @@ om_version="$(dpkg-query -W -f='${Version}' libopenmesh-dev 2>/dev/null || echo 
 gxx_version="$(g++ -dumpfullversion)"
 rustc_version="$(cd "$root" && rustc --version)"
 args=(--obj "$obj" --trials "$trials" --rounds "$rounds" --reference "$ref" --openmesh "$out/om_loop"
-      --flags "reference: $rustc_version, cargo release profile (opt-level 3, no LTO, codegen-units 16, debug-assertions off)"
+      --flags "reference: $rustc_version, cargo release profile (opt-level 3, fat LTO, codegen-units 1, debug-assertions off)"
       --flags "OpenMesh: libopenmesh-dev $om_version (Debian's build of the libraries), driver g++ $gxx_version $om_flags, TriMesh_ArrayKernelT<>, LoopT attach + operator()(rounds) + detach")
 if [ "${NO_LIBIGL:-0}" != 1 ]; then
     igl_version="$(python3 -c 'import importlib.metadata as m; print(m.version("libigl"))')"
