@@ -344,3 +344,218 @@ fn the_chinese_table_explains_in_chinese() {
         );
     }
 }
+
+/// Lab cases per stage as the grader counts them in `fixtures/lab`:
+/// `(flip, split, sequence, subdivide)`.
+fn lab_counts() -> [usize; 4] {
+    let mut n = [0; 4];
+    for path in common::case_files("lab") {
+        let f = common::json(&path);
+        let kind = f["operation"]["kind"].as_str().unwrap().to_string();
+        let i = ["flip", "split", "sequence", "subdivide"]
+            .iter()
+            .position(|k| *k == kind)
+            .unwrap_or_else(|| panic!("{}: kind {kind}", path.display()));
+        n[i] += 1;
+    }
+    n
+}
+
+/// The case counts each handout's first table states, per stage.
+fn stated_counts(path: &str) -> [Option<usize>; 4] {
+    let text = read(path);
+    let mut n = [None; 4];
+    for row in text.lines().take_while(|l| !l.starts_with("## ")) {
+        if !row.starts_with("| ") {
+            continue;
+        }
+        let cells: Vec<&str> = row.trim_matches('|').split(" | ").collect();
+        let first = cells[0];
+        let stage = if first.contains("`flip_edge(") {
+            0
+        } else if first.contains("`split_edge(") {
+            1
+        } else if first.contains("in sequence") || first.contains("依次") {
+            2
+        } else if first.contains("`loop_subdivide(") {
+            3
+        } else {
+            continue;
+        };
+        let last = cells.last().unwrap();
+        let number: String = last
+            .chars()
+            .skip_while(|c| !c.is_ascii_digit())
+            .take_while(char::is_ascii_digit)
+            .collect();
+        n[stage] = number.parse().ok();
+    }
+    n
+}
+
+#[test]
+fn the_handouts_case_counts_come_from_the_fixtures() {
+    let counts = lab_counts();
+    assert!(counts.iter().all(|&c| c > 0), "{counts:?}");
+    for path in ["docs/handout.en.md", "docs/handout.zh.md"] {
+        assert_eq!(
+            stated_counts(path),
+            counts.map(Some),
+            "{path}: flip, split, in sequence, subdivide as fixtures/lab has them"
+        );
+    }
+}
+
+/// The first `n` words of `text` before any colon, normalised.
+fn words(text: &str, n: usize) -> String {
+    normal(text.split(':').next().unwrap_or(text))
+        .split(' ')
+        .take(n)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Section 1 promises that the grader names the mistakes; section 10
+/// names each one the grader recognises, in the hint's words, in both
+/// languages (the hints are the grader's English).
+#[test]
+fn every_mistake_the_grader_names_is_in_both_faqs() {
+    for path in ["docs/handout.en.md", "docs/handout.zh.md"] {
+        let text = read(path);
+        let faq = normal(&text[text.find("\n## 10.").expect("a section 10")..]);
+        let one = &text[text.find("\n## 1.").unwrap()..text.find("\n## 2.").unwrap()];
+        assert!(
+            one.contains("10"),
+            "{path}: section 1 points to section 10's list"
+        );
+        for known in reference::mutants::subdivision_mistakes() {
+            let head = words(known.hint, 5);
+            assert!(
+                faq.contains(&head),
+                "{path}: section 10 never quotes {head:?} ({})",
+                known.id
+            );
+        }
+    }
+}
+
+/// A heading's anchor as GitHub makes it: lower case, spaces to `-`,
+/// every character but letters, digits, `-` and `_` dropped (Chinese
+/// punctuation too).
+fn slug(heading: &str) -> String {
+    heading
+        .to_lowercase()
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn both_tables_of_contents_link_to_every_section() {
+    assert_eq!(
+        slug("6. `loop_subdivide`: the 4-1 split as split + flip"),
+        "6-loop_subdivide-the-4-1-split-as-split--flip"
+    );
+    assert_eq!(slug("7. 边界（附加题）"), "7-边界附加题");
+    for path in ["docs/handout.en.md", "docs/handout.zh.md"] {
+        let text = read(path);
+        let sections: Vec<String> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("## "))
+            .filter(|h| h.starts_with(|c: char| c.is_ascii_digit()))
+            .map(slug)
+            .collect();
+        assert_eq!(sections.len(), 10, "{path}");
+        let links: Vec<String> = text
+            .split("](#")
+            .skip(1)
+            .map(|rest| rest[..rest.find(')').unwrap()].to_string())
+            .collect();
+        assert_eq!(
+            links, sections,
+            "{path}: the contents link each section, in order"
+        );
+    }
+}
+
+#[test]
+fn the_figures_are_the_generators_and_each_handout_links_its_own() {
+    let figures = lab_root().join("docs/figures");
+    let svgs = |dir: &std::path::Path| -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".svg"))
+            .collect();
+        names.sort();
+        names
+    };
+    // Every figure a handout links exists, in its own language.
+    for (path, prefix) in [
+        ("docs/handout.en.md", "figures/"),
+        ("docs/handout.zh.md", "figures/zh/"),
+    ] {
+        let text = read(path);
+        let linked: Vec<&str> = text
+            .split("](figures/")
+            .skip(1)
+            .map(|rest| &rest[..rest.find(')').unwrap()])
+            .collect();
+        assert_eq!(
+            linked.len(),
+            svgs(&figures).len(),
+            "{path} links every figure"
+        );
+        for l in linked {
+            let full = format!("figures/{l}");
+            assert!(
+                full.starts_with(prefix) && !full[prefix.len()..].contains('/'),
+                "{path}: {full}"
+            );
+            assert!(
+                lab_root().join("docs").join(&full).is_file(),
+                "{path}: {full} is missing"
+            );
+        }
+    }
+    if std::process::Command::new("python3")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        common::skip("python3 is not installed: the figures' generator cannot be checked");
+        return;
+    }
+    for (lang, committed) in [("en", figures.clone()), ("zh", figures.join("zh"))] {
+        let out = common::scratch(&format!("figures-{lang}"));
+        let run = std::process::Command::new("python3")
+            .arg(figures.join("make_figures.py"))
+            .args(["--lang", lang, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let made = if lang == "zh" {
+            out.join("zh")
+        } else {
+            out.clone()
+        };
+        assert_eq!(svgs(&made), svgs(&committed), "{lang}: the same figures");
+        for name in svgs(&made) {
+            assert!(
+                std::fs::read(made.join(&name)).unwrap()
+                    == std::fs::read(committed.join(&name)).unwrap(),
+                "{lang}/{name} differs from what make_figures.py draws: run it again"
+            );
+        }
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+}
