@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Draws the handout's figures: `python3 docs/figures/make_figures.py`.
+"""Draws the handout's figures: `python3 docs/figures/make_figures.py`
+(English, into this folder) and `... --lang zh` (Chinese, into `zh/`);
+`--out DIR` writes them elsewhere (the docs test compares the two).
 
 Plain Python 3, no dependencies. Each figure is computed from the same
 vertex positions the text uses, so halfedge arrows sit exactly inside their
@@ -16,10 +18,12 @@ Faces are listed counter-clockwise in the picture, as the lab's meshes are
 seen from the side their faces wind counter-clockwise.
 """
 
+import argparse
 import math
 import os
 
 OUT = os.path.dirname(os.path.abspath(__file__))
+LANG = "en"
 
 INK = "#222222"
 OLD = "#222222"
@@ -30,6 +34,65 @@ FAINT = "#c8c8c8"
 HOLE = "#ececec"
 SANS = "DejaVu Sans, Helvetica, Arial, sans-serif"
 MONO = "DejaVu Sans Mono, Menlo, Consolas, monospace"
+# Chinese figures name CJK fonts before the generic family.
+CJK = "Noto Sans CJK SC, Source Han Sans SC, PingFang SC, Microsoft YaHei"
+SANS_ZH = "DejaVu Sans, " + CJK + ", sans-serif"
+MONO_ZH = "DejaVu Sans Mono, Menlo, Consolas, " + CJK + ", monospace"
+
+# Every caption in words, in Chinese (code, names and formulas stay).
+ZH = {
+    "A halfedge h and its five links: twin, next, vertex, edge, face":
+        "半边 h 及其五个链接：twin、next、vertex、edge、face",
+    "mesh[a].halfedge: any halfedge": "mesh[a].halfedge：任意一条",
+    "  that starts at a (h, ...)": "  从 a 出发的半边（h, ...）",
+    "mesh[e].halfedge: h or t": "mesh[e].halfedge：h 或 t",
+    "mesh[f0].halfedge: h, h1 or h2": "mesh[f0].halfedge：h、h1 或 h2",
+    "vertex_halfedges(v) turns by twin then next: clockwise when faces are counter-clockwise":
+        "vertex_halfedges(v) 先走 twin 再走 next：面为逆时针时，绕顶点顺时针转",
+    "faces counter-clockwise in the": "图中各面为逆时针，",
+    "picture: the walk turns clockwise": "绕顶点的行走为顺时针",
+    "one step back:": "退回一步：",
+    "flip_edge(mesh, e): before and after, six halfedges named":
+        "flip_edge(mesh, e)：翻转前后，标出六条半边",
+    "flip": "翻转",
+    "split_edge(mesh, e) on an edge between two triangles: before and after":
+        "split_edge(mesh, e) 作用于两个三角形之间的边：分裂前后",
+    "split": "分裂",
+    "edges: e = a-m (old id)": "边：e = a-m（原来的 id）",
+    "eb = m-b, ec = m-c, ed = m-d (new)": "eb = m-b, ec = m-c, ed = m-d（新建）",
+    "mesh[m].halfedge == hb: along the old edge": "mesh[m].halfedge == hb：沿着旧边",
+    "split_edge(mesh, e) on a boundary edge: only the real triangle is divided":
+        "split_edge(mesh, e) 作用于边界边：只分割真实的三角形",
+    "f1: is_boundary (the hole)": "f1：is_boundary（洞）",
+    "One old triangle through subdivision: three splits, then one flip":
+        "一个旧三角形的细分过程：三次分裂，再一次翻转",
+    "input": "输入",
+    "1. split AB": "1. 分裂 AB",
+    "2. split BC": "2. 分裂 BC",
+    "3. split CA": "3. 分裂 CA",
+    "4. flip m1-C": "4. 翻转 m1-C",
+    "old vertex": "旧顶点",
+    "new vertex": "新顶点",
+    "old edge (or half of one)": "旧边（或其一半）",
+    "new edge": "新边",
+    "new, joins old and new: flip": "新边，连接旧顶点和新顶点：翻转",
+    "flipped": "已翻转",
+    "The lab's Loop weights: vertex mask and edge mask": "实验采用的 Loop 权重：顶点模板与边模板",
+    "old vertex v with n neighbours": "有 n 个邻居的旧顶点 v",
+    "u = 3/16 if n = 3, else 3/(8n)": "n = 3 时 u = 3/16，否则 u = 3/(8n)",
+    "n = 3: u = 3/16, v keeps 7/16": "n = 3：u = 3/16，v 保留 7/16",
+    "n = 6: u = 1/16, v keeps 5/8": "n = 6：u = 1/16，v 保留 5/8",
+    "new vertex m on edge ab": "边 ab 上的新顶点 m",
+    "Boundary rules: edge 1/2, 1/2; vertex 3/4, 1/8, 1/8": "边界规则：边 1/2、1/2；顶点 3/4、1/8、1/8",
+    "hole": "洞",
+    "new vertex on a boundary edge": "边界边上的新顶点",
+    "old vertex on the boundary": "边界上的旧顶点",
+}
+
+
+def tr(s):
+    """A caption in the figures' language."""
+    return ZH.get(s, s) if LANG == "zh" else s
 
 
 def add(p, q):
@@ -71,7 +134,7 @@ class Fig:
         self.name = name
         self.w = width
         self.h = height
-        self.title = title
+        self.title = tr(title)
         self.items = []
 
     def xy(self, p):
@@ -137,6 +200,9 @@ class Fig:
 
     def text(self, p, s, size=16, color=INK, anchor="middle", font=SANS,
              weight="normal", style="normal", halo=True):
+        s = tr(s)
+        if LANG == "zh":
+            font = {SANS: SANS_ZH, MONO: MONO_ZH}.get(font, font)
         x, y = self.xy(p)
         # dominant-baseline is not honoured everywhere: shift by hand so
         # that p is the text's visual centre.
@@ -164,7 +230,9 @@ class Fig:
         text = "\n".join(body) + "\n"
         # What rustdoc's inlining needs (see the module docstring).
         assert "\n\n" not in text and " id=" not in text, self.name
-        path = os.path.join(OUT, self.name + ".svg")
+        folder = os.path.join(OUT, "zh") if LANG == "zh" else OUT
+        os.makedirs(folder, exist_ok=True)
+        path = os.path.join(folder, self.name + ".svg")
         with open(path, "w", encoding="utf-8") as f:
             f.write(text)
         print("wrote", path)
@@ -628,6 +696,14 @@ def boundary_masks_figure():
 
 
 if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description="Draws the handout's figures.")
+    parser.add_argument("--lang", choices=["en", "zh"], default="en",
+                        help="the captions' language (zh: into zh/)")
+    parser.add_argument("--out", help="the folder to write into (default: this one)")
+    args = parser.parse_args()
+    LANG = args.lang
+    if args.out:
+        OUT = os.path.abspath(args.out)
     halfedge_figure()
     vertex_walk_figure()
     flip_figure()

@@ -368,7 +368,10 @@ pub fn serve(imp: &Implementation) -> ! {
     halfedge::logging::init(halfedge::logging::Color::Never);
     let _ = channel.write_all(&wire::started_frame());
     let _ = channel.flush();
+    let cpu = crate::scaling::process_cpu_time();
     let ran = run_request(req, imp);
+    let cpu = crate::scaling::process_cpu_time().saturating_sub(cpu);
+    let _ = channel.write_all(&wire::cpu_frame(cpu));
     let _ = channel.write_all(&wire::result_frame(&ran));
     let _ = channel.flush();
     let _ = std::io::stderr().flush();

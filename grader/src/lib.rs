@@ -18,6 +18,8 @@
 //! - [`grade`]: the verdict and messages for one case.
 //! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
 //!   anything the student's code said is shown (as data, under `| `).
+//! - [`scaling`]: `loop_subdivide` timed on two sizes, to catch quadratic
+//!   code (a warning, not counted).
 //! - [`build_sandbox`]: the launcher that locks a student's build in (used
 //!   by the TA's class grading and the Gradescope bundle).
 //!
@@ -44,6 +46,7 @@ pub mod relabel;
 pub mod report;
 pub mod runner;
 pub mod sandbox;
+pub mod scaling;
 pub mod seccomp;
 pub mod trial;
 #[cfg(unix)]
@@ -780,6 +783,13 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     };
     let (mut reports, protections): (Vec<_>, Option<String>) = reports;
     grade::note_dependencies(&mut reports);
+    // Quadratic code: timed once subdivision is right (a warning only).
+    let asked = cli.case.is_none()
+        && cli.stage.is_none_or(|s| s == StageArg::Subdivide)
+        && cli.budget.is_none();
+    let scaling = scaling::wanted(&reports, asked)
+        .then(|| scaling::measure(program, &limits, plan.timeout))
+        .flatten();
     // Naming a bonus case is asking for it to count.
     let bonus = cli.bonus || cli.case.is_some();
     let protections = protections
@@ -817,9 +827,10 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
                 report: report_path.as_ref().map(|p| p.display().to_string()),
                 focus: cli.case.clone(),
                 time: time_line,
+                scaling: scaling.clone(),
             },
         ),
-        Format::Json => report::json(&reports, bonus, &protections_json, &plan),
+        Format::Json => report::json(&reports, bonus, &protections_json, &plan, scaling.as_ref()),
     };
     print!("{output}");
     if let Some(path) = &cli.gradescope {

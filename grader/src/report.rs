@@ -83,6 +83,8 @@ pub struct TextOptions {
     pub focus: Option<String>,
     /// The per-call limit, when `--budget` shortened it.
     pub time: Option<String>,
+    /// `loop_subdivide` timed on two sizes, when it was.
+    pub scaling: Option<crate::scaling::Scaling>,
 }
 
 /// At most this many failing cases are listed in the summary.
@@ -192,6 +194,10 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             &format!("{label} cases passed: {}", parts.join(", ")),
             color,
         );
+    }
+    if let Some(s) = &opts.scaling {
+        // A warning that counts for nothing: the verdict stays the cases'.
+        log_line(out, file!(), line!(), s.quadratic, &s.message(), color);
     }
     let failed: Vec<&CaseReport> = cases
         .iter()
@@ -303,6 +309,9 @@ struct JsonReport<'a> {
     protections: &'a str,
     /// The runs and the per-call limit they were given.
     plan: &'a crate::Plan,
+    /// `loop_subdivide` timed on two sizes, when it was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    scaling: Option<&'a crate::scaling::Scaling>,
     cases: Vec<JsonCase<'a>>,
 }
 
@@ -318,12 +327,19 @@ struct JsonCase<'a> {
 
 /// The report as JSON, for scripts. Student text (`output`, an entry's
 /// `quote`) is a list of escaped lines; `text` is the grader's words only.
-pub fn json(cases: &[CaseReport], bonus: bool, protections: &str, plan: &crate::Plan) -> String {
+pub fn json(
+    cases: &[CaseReport],
+    bonus: bool,
+    protections: &str,
+    plan: &crate::Plan,
+    scaling: Option<&crate::scaling::Scaling>,
+) -> String {
     serde_json::to_string_pretty(&JsonReport {
         passed: all_passed(cases, bonus),
         bonus_counted: bonus,
         protections,
         plan,
+        scaling,
         cases: cases
             .iter()
             .map(|case| JsonCase {

@@ -81,6 +81,9 @@ pub struct RawReport {
     pub output: String,
     /// The launcher's description of the protections in force.
     pub sandbox: Option<String>,
+    /// The CPU time of the call, as the child reported it (none when it
+    /// did not finish).
+    pub cpu: Option<Duration>,
 }
 
 /// How a case's run ended, as the judge reads it: the child's result
@@ -375,6 +378,7 @@ pub fn run_child(
                 exit: Exit::SandboxFailed(why),
                 output: String::new(),
                 sandbox: None,
+                cpu: None,
             })
         }
     };
@@ -469,11 +473,13 @@ pub fn run_child(
     active().retain(|&p| p != pid);
     sweep_unless_contained(&sandbox_status);
     let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
+    let cpu = result.as_deref().and_then(wire::reported_cpu_time);
     let exit = classify(limit_hit, status, result, &output, sandbox_status.is_some());
     Ok(RawReport {
         exit,
         output: strip_notices(&output),
         sandbox: sandbox_status,
+        cpu,
     })
 }
 

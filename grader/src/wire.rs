@@ -4,7 +4,8 @@
 //! labelled), the operation and the growth budget. The child sends back
 //! frames: [`Frame::Sandbox`] (written by the launcher before the student's
 //! program starts), [`Frame::Started`] (just before the student's function
-//! is called: the time limit starts there), then one [`Frame::Result`].
+//! is called: the time limit starts there), [`Frame::CpuTime`] (what the
+//! call cost), then one [`Frame::Result`].
 //!
 //! The encoding is plain little-endian binary, floats as their bits, so a
 //! NaN or a negative zero comes back exactly as the student left it. The
@@ -115,6 +116,9 @@ pub enum Frame {
     Sandbox(String),
     /// The student's function is about to be called.
     Started,
+    /// The CPU time the call took, as the child measured it (sent just
+    /// before the result; the scaling check reads it, nothing is judged by it).
+    CpuTime(std::time::Duration),
     Result(Ran),
 }
 
@@ -122,6 +126,7 @@ const REQUEST_MAGIC: &[u8; 4] = b"MLQ1";
 const TAG_SANDBOX: u8 = b'L';
 const TAG_STARTED: u8 = b'S';
 const TAG_RESULT: u8 = b'R';
+const TAG_CPU: u8 = b'C';
 
 /// Why bytes could not be decoded.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -375,6 +380,22 @@ pub fn started_frame() -> Vec<u8> {
     vec![TAG_STARTED]
 }
 
+/// The frame with the CPU time of the call, sent before the result.
+pub fn cpu_frame(time: std::time::Duration) -> Vec<u8> {
+    let mut out = vec![TAG_CPU];
+    put_u64(&mut out, time.as_nanos().min(u64::MAX as u128) as u64);
+    out
+}
+
+/// The CPU time a child reported in its frames, if it did (a stream that
+/// does not decode reports none).
+pub fn reported_cpu_time(bytes: &[u8]) -> Option<std::time::Duration> {
+    decode_frames(bytes).ok()?.iter().find_map(|f| match f {
+        Frame::CpuTime(t) => Some(*t),
+        _ => None,
+    })
+}
+
 /// The child's last frame.
 pub fn result_frame(ran: &Ran) -> Vec<u8> {
     let mut out = vec![TAG_RESULT];
@@ -507,6 +528,7 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
         match r.u8()? {
             TAG_SANDBOX => frames.push(Frame::Sandbox(r.str()?)),
             TAG_STARTED => frames.push(Frame::Started),
+            TAG_CPU => frames.push(Frame::CpuTime(std::time::Duration::from_nanos(r.u64()?))),
             TAG_RESULT => {
                 let ran = match r.u8()? {
                     0 => {
@@ -756,14 +778,19 @@ mod tests {
         let mesh = unusual();
         let mut bytes = sandbox_frame("landlock v6");
         bytes.extend(started_frame());
+        bytes.extend(cpu_frame(std::time::Duration::from_micros(1500)));
         bytes.extend(result_frame(&Ran::Returned {
             answer: Answer::Edge(EdgeId(3)),
             mesh: mesh.clone(),
         }));
         let frames = decode_frames(&bytes).unwrap();
+        assert_eq!(
+            reported_cpu_time(&bytes),
+            Some(std::time::Duration::from_micros(1500))
+        );
         assert!(matches!(&frames[0], Frame::Sandbox(s) if s == "landlock v6"));
         assert!(matches!(frames[1], Frame::Started));
-        match &frames[2] {
+        match &frames[3] {
             Frame::Result(Ran::Returned { answer, mesh: m }) => {
                 assert_eq!(*answer, Answer::Edge(EdgeId(3)));
                 assert!(same(m, &mesh));

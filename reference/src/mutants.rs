@@ -169,6 +169,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", with(None, None, Some(hostile::grader_memory))),
         e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", with(None, None, Some(hostile::kernel_calls))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
+        e("quadratic", "right results, but after each split it finds the edges at the new vertex by scanning every edge of the mesh: quadratic time", with(None, None, Some(sub_quadratic))),
         e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
@@ -830,6 +831,38 @@ fn split_returns_old(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
     let (a, _) = mesh.edge_vertices(e);
     solution::split_edge(mesh, e)?;
     Some(a)
+}
+
+/// The lab's steps, but the edges around each split vertex are found by a
+/// scan over every edge (instead of the walk around it): the same flags,
+/// the same mesh, and time that grows with the square of the mesh.
+fn sub_quadratic(mesh: &mut Mesh) {
+    if let Some(f) = mesh.first_non_triangle() {
+        panic!("loop_subdivide needs triangles, but {f} is not a triangle");
+    }
+    solution::vertex_points(mesh, Weights::Warren);
+    solution::edge_points(mesh);
+    let old: Vec<EdgeId> = mesh.edge_ids().collect();
+    for e in old {
+        let (a, b) = mesh.edge_vertices(e);
+        let m = solution::split_edge(mesh, e).expect("an edge of a triangle mesh splits");
+        mesh[m].is_new = true;
+        mesh[m].new_pos = mesh[e].new_pos;
+        for x in mesh.edge_ids() {
+            let (p, q) = mesh.edge_vertices(x);
+            let other = if p == m {
+                q
+            } else if q == m {
+                p
+            } else {
+                continue;
+            };
+            mesh[x].is_new = other != a && other != b;
+        }
+    }
+    let all: Vec<EdgeId> = mesh.edge_ids().collect();
+    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::move_vertices(mesh);
 }
 
 fn sub_fake_verdict(mesh: &mut Mesh) {
