@@ -1,0 +1,321 @@
+//! `--report DIR`: what a student looks at when a case fails.
+//!
+//! For every case: the input, the student's result and the expected result
+//! as OBJ files (MeshLab, Blender), and one self-contained offline
+//! `index.html` (inline CSS, script and SVG, nothing fetched): the case
+//! list at the top, failing cases first, and for each case its verdict and
+//! messages beside an interactive 3D inspector of the input, the expected
+//! result and the student's result, with static pictures from three angles
+//! as the fallback where script or canvas is missing.
+//!
+//! One job per file:
+//! - `faces.rs`: what can be drawn of a mesh, and the expected result's
+//!   faces rebuilt from its edges;
+//! - `marks.rs`: what is wrong (the comparison, the elements the messages
+//!   name) and where to look from;
+//! - `svg.rs`: the static pictures;
+//! - `inspector.rs`: the data the inspector reads (each mesh's full
+//!   connectivity, the marks, the handout's names, the step-through
+//!   frames), and `inspector.js`/`inspector.css`, the viewer itself;
+//! - `page.rs`: the page.
+//!
+//! The student's mesh may be anything: every id is bounds-checked, every
+//! walk is bounded, non-finite or far-off positions are left out or pinned
+//! to the picture's border, here and in the script.
+
+use halfedge::DVec3;
+
+mod faces;
+mod marks;
+mod page;
+mod svg;
+
+pub use page::{write_report, write_report_live, STAMP_FILE};
+
+fn pair(a: usize, b: usize) -> [usize; 2] {
+    [a.min(b), a.max(b)]
+}
+
+/// A position as the grader's messages print it; huge coordinates (a
+/// student's vertex can be anywhere) in exponent form.
+fn fmt_p(p: DVec3) -> String {
+    let n = |x: f64| {
+        if x.abs() < 1e7 {
+            format!("{x:.6}")
+        } else {
+            format!("{x:.3e}")
+        }
+    };
+    format!("({}, {}, {})", n(p.x), n(p.y), n(p.z))
+}
+
+/// A distance, `far` past what a float can say.
+fn fmt_d(d: f64) -> String {
+    if d < 1e7 {
+        format!("{d:.6}")
+    } else if d.is_finite() {
+        format!("{d:.3e}")
+    } else {
+        "too far to say how".to_string()
+    }
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+        .replace('\'', "&#39;")
+}
+
+/// The sides of a polygon as unordered pairs.
+fn sides(face: &[usize]) -> impl Iterator<Item = [usize; 2]> + '_ {
+    (0..face.len()).map(move |i| pair(face[i], face[(i + 1) % face.len()]))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+    use std::path::{Path, PathBuf};
+
+    use super::faces::Shape;
+    use super::marks::{compare, element_names};
+    use super::*;
+    use crate::fixture::{Fixture, Operation, Returns};
+    use crate::grade::Entry;
+    use crate::grade::{CaseReport, Level};
+    use crate::relabel::Rng;
+    use halfedge::Mesh;
+    use halfedge::{Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Vertex, VertexId};
+
+    fn fixtures_root() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+    }
+
+    fn fixture(name: &str) -> Fixture {
+        crate::fixture::load_all(&fixtures_root())
+            .expect("the fixtures load")
+            .into_iter()
+            .find(|f| f.name == name)
+            .unwrap_or_else(|| panic!("no fixture {name}"))
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("grader-html-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    fn failed(f: &Fixture, result: Option<Mesh>, text: &str) -> CaseReport {
+        CaseReport {
+            name: f.name.clone(),
+            object: f.object.clone(),
+            group: f.group,
+            stage: f.operation.stage(),
+            passed: false,
+            entries: vec![Entry {
+                level: Level::Warn,
+                text: text.to_string(),
+                quote: None,
+                file: file!(),
+                line: line!(),
+            }],
+            output: crate::quoted::Quoted::new("printed <b>\n".repeat(2000)),
+            timed_out: false,
+            input: f.input.to_mesh().ok(),
+            result,
+            hint: None,
+        }
+    }
+
+    /// A mesh whose every link may be anything: ids in range or past it,
+    /// positions finite, NaN, infinite or astronomically far.
+    fn garbage(rng: &mut Rng, n: usize) -> Mesh {
+        let id = |rng: &mut Rng, len: usize| -> u32 {
+            match rng.below(8) {
+                0 => u32::MAX,
+                1 => (len + rng.below(5)) as u32,
+                _ => rng.below(len.max(1)) as u32,
+            }
+        };
+        let coord = |rng: &mut Rng| match rng.below(12) {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => -1e300,
+            3 => 1e9,
+            _ => rng.below(2001) as f64 / 1000.0 - 1.0,
+        };
+        let (nv, ne, nf, nh) = (n, n + 2, n / 2 + 1, 2 * n + 4);
+        let vertices = (0..nv)
+            .map(|_| Vertex {
+                pos: DVec3::new(coord(rng), coord(rng), coord(rng)),
+                new_pos: DVec3::ZERO,
+                is_new: false,
+                halfedge: HalfedgeId(id(rng, nh)),
+            })
+            .collect();
+        let edges = (0..ne)
+            .map(|_| Edge {
+                halfedge: HalfedgeId(id(rng, nh)),
+                new_pos: DVec3::ZERO,
+                is_new: false,
+            })
+            .collect();
+        let faces = (0..nf)
+            .map(|_| Face {
+                halfedge: HalfedgeId(id(rng, nh)),
+                is_boundary: rng.below(4) == 0,
+            })
+            .collect();
+        let halfedges = (0..nh)
+            .map(|_| Halfedge {
+                twin: HalfedgeId(id(rng, nh)),
+                next: HalfedgeId(id(rng, nh)),
+                vertex: VertexId(id(rng, nv)),
+                edge: EdgeId(id(rng, ne)),
+                face: FaceId(id(rng, nf)),
+            })
+            .collect();
+        Mesh::from_records(vertices, edges, faces, halfedges)
+    }
+
+    #[test]
+    fn a_garbage_result_is_drawn_as_far_as_it_goes_and_never_panics() {
+        let mut rng = Rng::new(7);
+        let cases = [
+            "cube-split",
+            "cube-flip-1",
+            "cube-subdivide-1",
+            "grid-split-boundary",
+        ];
+        let fixtures: Vec<Fixture> = cases.iter().map(|c| fixture(c)).collect();
+        let dir = scratch("garbage");
+        for round in 0..60 {
+            let f = &fixtures[round % fixtures.len()];
+            let size = 3 + rng.below(40);
+            let mesh = garbage(&mut rng, size);
+            let report = failed(
+                f,
+                Some(mesh),
+                "broken (e3) at v1, h999999, f2 and v4294967295",
+            );
+            let index = write_report(&dir, &[(f, &report)]).expect("the report is written");
+            let html = std::fs::read_to_string(index).unwrap();
+            assert!(html.contains("<svg class=\"view\""), "pictures are drawn");
+            for bad in ["NaN", " inf", "(inf", "-inf", "00000000000000000000"] {
+                assert!(!html.contains(bad), "{bad} in the page");
+            }
+            let yours = std::fs::read_to_string(dir.join(format!("{}.yours.obj", f.name))).unwrap();
+            assert!(yours.contains("NOT a valid mesh"), "{yours}");
+        }
+        // Empty records, and a mesh with nothing but vertices.
+        let f = &fixtures[0];
+        for mesh in [Mesh::new(), garbage(&mut rng, 0)] {
+            let report = failed(f, Some(mesh), "empty");
+            write_report(&dir, &[(f, &report)]).expect("the report is written");
+        }
+    }
+
+    #[test]
+    fn a_live_report_reloads_when_rewritten_and_a_plain_one_has_no_script() {
+        let f = fixture("cube-split");
+        let report = failed(&f, None, "split_edge panicked");
+        let dir = scratch("live");
+        let plain = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
+        assert!(!plain.contains("<script"), "no script without --watch");
+        assert!(!dir.join(STAMP_FILE).exists());
+        let page = write_report_live(&dir, &[(&f, &report)], true).unwrap();
+        let live = std::fs::read_to_string(&page).unwrap();
+        assert!(
+            live.contains("<script src=\"watch-stamp.js\"></script>"),
+            "{live}"
+        );
+        assert!(live.contains("location.reload()"));
+        let first = std::fs::read_to_string(dir.join(STAMP_FILE)).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(2));
+        write_report_live(&dir, &[(&f, &report)], true).unwrap();
+        let second = std::fs::read_to_string(dir.join(STAMP_FILE)).unwrap();
+        assert!(first.starts_with("window.meshlabStamp = \""), "{first}");
+        assert_ne!(
+            first, second,
+            "each rewrite changes the stamp the page polls"
+        );
+    }
+
+    #[test]
+    fn what_the_student_printed_is_escaped_and_cut() {
+        let f = fixture("cube-split");
+        let report = failed(&f, None, "split_edge panicked: <script>");
+        let dir = scratch("escape");
+        let html = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
+        assert!(!html.contains("<script>") && !html.contains("<b>"));
+        assert!(html.contains("printed &lt;b&gt;") && html.contains("… (cut)"));
+        assert!(html.contains("no mesh to show"));
+    }
+
+    #[test]
+    fn expected_faces_are_rebuilt_for_every_fixture() {
+        for f in crate::fixture::load_all(&fixtures_root()).unwrap() {
+            let input = Shape::from_faces(&f.input.positions, &f.input.faces);
+            let shape = Shape::expected(&f);
+            let mut uses: HashMap<[usize; 2], usize> = HashMap::new();
+            for face in &shape.faces {
+                for s in sides(face) {
+                    *uses.entry(s).or_default() += 1;
+                }
+            }
+            assert!(
+                uses.values().all(|&k| k <= 2),
+                "{}: an edge with three faces",
+                f.name
+            );
+            // After random flips, a triangle of edges need not be a face:
+            // a sequence's picture is drawn from edges as best it can.
+            let sequence = matches!(f.operation, Operation::Sequence { .. });
+            if input.is_closed() && f.expected.returns != Some(Returns::Refused) && !sequence {
+                // A closed surface stays closed: every edge has its two
+                // faces, wound consistently, the same way round as the input.
+                assert!(shape.is_closed(), "{}: rebuilt faces do not close", f.name);
+                assert_eq!(uses.len(), f.expected.edges.len(), "{}", f.name);
+                let all = |s: &Shape| (0..s.faces.len()).collect::<Vec<_>>();
+                let (v, _) = shape.orientation(&all(&shape));
+                let (w, _) = input.orientation(&all(&input));
+                assert_eq!(v > 0.0, w > 0.0, "{}: wound the other way", f.name);
+            }
+        }
+    }
+
+    #[test]
+    fn element_names_are_found_in_messages() {
+        let names = element_names(&[
+            "v8 is at (1, 2); A vertex's halfedge (e229), h40 and f3",
+            "between v9 and v10, v8 again; not: ev3, v3x, mesh[e].halfedge",
+        ]);
+        let shown: Vec<String> = names.iter().map(|e| e.to_string()).collect();
+        assert_eq!(shown, ["v8", "e229", "h40", "f3", "v9", "v10"]);
+    }
+
+    #[test]
+    fn a_misplaced_vertex_is_paired_and_its_edges_are_not_called_wrong() {
+        let f = fixture("cube-split");
+        let expected = Shape::expected(&f);
+        let mut yours = expected.clone();
+        let new = f.input.positions.len();
+        yours.points[new] = Some(DVec3::new(9.0, 9.0, 9.0));
+        let c = compare(&f, &yours, &expected);
+        assert_eq!(c.matched[new], None);
+        assert_eq!(c.unmatched_expected, vec![new]);
+        assert_eq!(c.displaced[new], Some(new));
+        assert!(c.missing.is_empty() && c.extra.is_empty());
+        // An edge moved: one missing, one extra.
+        let gone = yours.edges.pop().unwrap();
+        let new_edge = (0..yours.len())
+            .map(|b| pair(gone[0], b))
+            .find(|e| e[0] != e[1] && *e != gone && !yours.edges.contains(e))
+            .unwrap();
+        yours.edges.push(new_edge);
+        let c = compare(&f, &yours, &expected);
+        assert_eq!(c.missing, vec![gone]);
+        assert_eq!(c.extra.len(), 1);
+    }
+}
