@@ -296,6 +296,14 @@ pub(super) struct CasePictures {
     pub(super) cameras: Vec<View>,
     /// Lines said under the pictures (vertices not drawn, and so on).
     pub(super) notes: Vec<String>,
+    /// Input vertex as sent -> the fixture's (the case's) vertex.
+    pub(super) case_of: Vec<Option<usize>>,
+    /// Expected vertex -> the student's vertex matched or paired with it.
+    pub(super) student_of_expected: Vec<Option<usize>>,
+    /// The case's edge in the input as sent.
+    pub(super) case_edge: Option<[usize; 2]>,
+    /// The expected result's new vertex (a split's), expected numbering.
+    pub(super) new_vertex: Option<usize>,
 }
 
 pub(super) fn labels_for(n: usize, name: impl Fn(usize) -> Option<usize>) -> Vec<Option<String>> {
@@ -324,6 +332,9 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             .map(|p| p.map_or([f64::NAN; 3], |p| p.to_array()))
             .collect()
     };
+    // A seam like `named_elements`: `relabel.rs` knows the permutation;
+    // when the report carries it (issue 17, part B) this reads it instead
+    // of matching the input as sent to the fixture's by position.
     let relabel = matching::match_by_neighbourhood(
         &as_array(&input),
         &input.edges,
@@ -331,6 +342,7 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         &fixture_input.edges,
         tol,
     );
+    let case_of = relabel.to_expected.clone();
     let mut id_of = vec![None; n_in];
     for (sent, fixture) in relabel.to_expected.iter().enumerate() {
         if let Some(slot) = fixture.and_then(|i| id_of.get_mut(i)) {
@@ -572,6 +584,7 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         why,
     })
     .collect();
+    let student_of_expected = (0..expected.len()).map(student_of).collect();
     CasePictures {
         input,
         expected,
@@ -581,5 +594,9 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         marks_yours,
         cameras,
         notes,
+        case_of,
+        student_of_expected,
+        case_edge,
+        new_vertex,
     }
 }

@@ -26,11 +26,13 @@
 use halfedge::DVec3;
 
 mod faces;
+mod inspector;
 mod marks;
 mod page;
 mod svg;
 
-pub use page::{write_report, write_report_live, STAMP_FILE};
+pub use inspector::{Frames, FRAME_LIMIT};
+pub use page::{write_report, write_report_frames, write_report_live, STAMP_FILE};
 
 fn pair(a: usize, b: usize) -> [usize; 2] {
     [a.min(b), a.max(b)]
@@ -205,6 +207,13 @@ mod tests {
             for bad in ["NaN", " inf", "(inf", "-inf", "00000000000000000000"] {
                 assert!(!html.contains(bad), "{bad} in the page");
             }
+            // The inspector's data is JSON (non-finite numbers as null).
+            let tag = "<script type=\"application/json\" class=\"inspector-data\">";
+            let blob = html.split(tag).nth(1).expect("the inspector's data");
+            let blob = &blob[..blob.find("</script>").expect("the data ends")];
+            let data: serde_json::Value = serde_json::from_str(blob).expect("valid JSON");
+            assert_eq!(data["name"], f.name.as_str());
+            assert!(data["yours"]["h"].is_array(), "{data}");
             let yours = std::fs::read_to_string(dir.join(format!("{}.yours.obj", f.name))).unwrap();
             assert!(yours.contains("NOT a valid mesh"), "{yours}");
         }
@@ -222,7 +231,10 @@ mod tests {
         let report = failed(&f, None, "split_edge panicked");
         let dir = scratch("live");
         let plain = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
-        assert!(!plain.contains("<script"), "no script without --watch");
+        assert!(
+            !plain.contains("watch-stamp.js") && !plain.contains("location.reload()"),
+            "no reloading without --watch"
+        );
         assert!(!dir.join(STAMP_FILE).exists());
         let page = write_report_live(&dir, &[(&f, &report)], true).unwrap();
         let live = std::fs::read_to_string(&page).unwrap();
@@ -248,7 +260,9 @@ mod tests {
         let report = failed(&f, None, "split_edge panicked: <script>");
         let dir = scratch("escape");
         let html = std::fs::read_to_string(write_report(&dir, &[(&f, &report)]).unwrap()).unwrap();
-        assert!(!html.contains("<script>") && !html.contains("<b>"));
+        // One script element, the inspector's; the student's text escaped.
+        assert_eq!(html.matches("<script>").count(), 1);
+        assert!(!html.contains("<b>") && html.contains("panicked: &lt;script&gt;"));
         assert!(html.contains("printed &lt;b&gt;") && html.contains("… (cut)"));
         assert!(html.contains("no mesh to show"));
     }

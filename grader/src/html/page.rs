@@ -10,11 +10,18 @@ use std::collections::HashSet;
 
 use super::escape;
 use super::faces::Shape;
-use super::marks::{pictures, View};
+use halfedge::{Element, VertexId};
+
+use super::inspector::{self, Frames};
+use super::marks::{named_elements, pictures, CasePictures, View};
 use super::sides;
 use super::svg::{draw, legend, shade_css, Prepared};
 use crate::fixture::{Fixture, Group, Operation, Returns};
 use crate::grade::{CaseReport, Level};
+
+/// The inspector: its script and style, inlined once per page.
+const INSPECTOR_JS: &str = include_str!("inspector.js");
+const INSPECTOR_CSS: &str = include_str!("inspector.css");
 
 /// Characters of what the student's code printed kept in the page.
 pub(super) const OUTPUT_LIMIT: usize = 6000;
@@ -146,7 +153,203 @@ details.output pre{max-height:16em;overflow:auto;background:#f3f4f6;padding:6px}
 pre.quote{margin:2px 0;white-space:pre-wrap}
 "#;
 
-pub(super) fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &[(&str, String)]) {
+/// The inspector's data for one case (see `inspector.rs`).
+/// How the input as sent differs from the mesh built from the case's faces.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Labelled {
+    AsBuilt,
+    /// The same ids, other pointers (`mesh[v].halfedge` and the like).
+    Pointers,
+    /// Other ids.
+    Ids,
+}
+
+/// Also how the input was relabelled.
+fn case_data(
+    f: &Fixture,
+    r: &CaseReport,
+    pics: &CasePictures,
+    frames: Option<&Frames>,
+) -> (String, Labelled) {
+    let mut out = String::with_capacity(4096);
+    let op = match f.operation {
+        Operation::Flip { .. } => "flip",
+        Operation::Split { .. } => "split",
+        Operation::Subdivide { .. } => "subdivide",
+        Operation::Sequence { .. } => "sequence",
+    };
+    out.push_str("{\"name\":");
+    inspector::string(&mut out, &f.name);
+    let _ = write!(out, ",\"op\":\"{op}\",\"passed\":{}", r.passed);
+    // The elements the messages are about, in the mesh they are about.
+    let named = if r.passed {
+        Vec::new()
+    } else {
+        named_elements(&r.entries)
+    };
+    let (named_yours, named_input) = match (&r.result, &r.input) {
+        (Some(_), _) => (
+            inspector::named_found(&pics.marks_yours, &named),
+            Vec::new(),
+        ),
+        (None, Some(_)) => (
+            Vec::new(),
+            inspector::named_found(&pics.marks_input, &named),
+        ),
+        (None, None) => (Vec::new(), Vec::new()),
+    };
+    out.push_str(",\"input\":");
+    match &r.input {
+        Some(m) => inspector::mesh_json(&mut out, m),
+        None => out.push_str("null"),
+    }
+    out.push_str(",\"expected\":");
+    if r.passed {
+        out.push_str("null");
+    } else {
+        inspector::shape_json(&mut out, &pics.expected, &pics.student_of_expected);
+    }
+    out.push_str(",\"yours\":");
+    match &r.result {
+        Some(m) => inspector::mesh_json(&mut out, m),
+        None => out.push_str("null"),
+    }
+    out.push_str(",\"marks\":{\"input\":");
+    inspector::marks_json(&mut out, &pics.marks_input, &named_input);
+    out.push_str(",\"expected\":");
+    inspector::marks_json(&mut out, &pics.marks_expected, &[]);
+    out.push_str(",\"yours\":");
+    inspector::marks_json(&mut out, &pics.marks_yours, &named_yours);
+    out.push('}');
+    // The handout's names, for a flip or split.
+    out.push_str(",\"names\":");
+    match (&r.input, pics.case_edge, f.operation) {
+        (Some(input), Some(edge), Operation::Flip { .. } | Operation::Split { .. }) => {
+            let split = matches!(f.operation, Operation::Split { .. });
+            let (before, after) = inspector::handout_names(input, edge, split, r.result.as_ref());
+            out.push_str("{\"input\":");
+            inspector::names_json(&mut out, &before);
+            out.push_str(",\"yours\":");
+            inspector::names_json(&mut out, &after);
+            // In the expected result, by the case's vertex numbering.
+            let expected: Vec<(Element, &str)> = after
+                .iter()
+                .filter_map(|&(e, n)| match e {
+                    Element::Vertex(_) if n == "m" => pics
+                        .new_vertex
+                        .map(|k| (Element::Vertex(VertexId(k as u32)), n)),
+                    Element::Vertex(v) => pics
+                        .case_of
+                        .get(v.index())
+                        .copied()
+                        .flatten()
+                        .map(|k| (Element::Vertex(VertexId(k as u32)), n)),
+                    _ => None,
+                })
+                .collect();
+            out.push_str(",\"expected\":");
+            inspector::names_json(&mut out, &expected);
+            out.push('}');
+        }
+        _ => out.push_str("null"),
+    }
+    // Both numberings, when the input was relabelled.
+    out.push_str(",\"caseIds\":");
+    let numbering = match (&r.input, f.input.to_mesh()) {
+        (Some(sent), Ok(case)) => inspector::case_numbering(sent, &case, &pics.case_of),
+        _ => None,
+    };
+    let relabelled = if numbering.is_some() {
+        Labelled::Ids
+    } else {
+        match (&r.input, f.input.to_mesh()) {
+            (Some(sent), Ok(case)) if sent.records() != case.records() => Labelled::Pointers,
+            _ => Labelled::AsBuilt,
+        }
+    };
+    match numbering {
+        Some([v, e, fs, h]) => {
+            let put = |out: &mut String, key: &str, m: &[i64]| {
+                let _ = write!(out, "\"{key}\":[");
+                for (k, x) in m.iter().enumerate() {
+                    if k > 0 {
+                        out.push(',');
+                    }
+                    let _ = write!(out, "{x}");
+                }
+                out.push(']');
+            };
+            out.push('{');
+            put(&mut out, "v", &v);
+            out.push(',');
+            put(&mut out, "e", &e);
+            out.push(',');
+            put(&mut out, "f", &fs);
+            out.push(',');
+            put(&mut out, "h", &h);
+            out.push('}');
+        }
+        None => out.push_str("null"),
+    }
+    // What "select error" picks: the first element the messages name,
+    // else the first wrong vertex, missing vertex, extra or missing edge.
+    out.push_str(",\"error\":");
+    let error: Option<(&str, Element)> = named_yours
+        .first()
+        .map(|&e| ("yours", e))
+        .or_else(|| named_input.first().map(|&e| ("input", e)))
+        .or_else(|| {
+            let (v, _) = pics.marks_yours.wrong_points.first()?;
+            Some(("yours", Element::Vertex(VertexId(*v as u32))))
+        })
+        .or_else(|| {
+            let (v, _) = pics.marks_expected.wrong_points.first()?;
+            Some(("expected", Element::Vertex(VertexId(*v as u32))))
+        })
+        .or_else(|| {
+            let [a, b] = *pics.marks_yours.wrong_edges.first()?;
+            let e = r.result.as_ref()?.edge_between(a, b)?;
+            Some(("yours", Element::Edge(e)))
+        })
+        .or_else(|| {
+            let [a, _] = *pics.marks_expected.wrong_edges.first()?;
+            Some(("expected", Element::Vertex(VertexId(a as u32))))
+        });
+    match error.filter(|_| !r.passed) {
+        Some((pane, e)) => {
+            let _ = write!(out, "{{\"pane\":\"{pane}\",\"el\":\"{e}\"}}");
+        }
+        None => out.push_str("null"),
+    }
+    out.push_str(",\"frames\":");
+    match frames {
+        Some(fr) => inspector::frames_json(&mut out, fr),
+        None => out.push_str("null"),
+    }
+    out.push('}');
+    (out, relabelled)
+}
+
+/// The inspector's place in a case: its data, and the element the script
+/// fills (hidden until it runs, so a page without script shows nothing
+/// of it).
+fn inspector_html(html: &mut String, data: &str, note: Option<&str>) {
+    html.push_str("<div class=\"inspector\" hidden>");
+    if let Some(n) = note {
+        let _ = write!(html, "<p class=\"relabelled\">{}</p>", escape(n));
+    }
+    html.push_str("<script type=\"application/json\" class=\"inspector-data\">");
+    html.push_str(data);
+    html.push_str("</script></div>\n");
+}
+
+pub(super) fn case_html(
+    html: &mut String,
+    f: &Fixture,
+    r: &CaseReport,
+    files: &[(&str, String)],
+    frames: Option<&Frames>,
+) {
     let verdict = if r.passed { "passed" } else { "failed" };
     let pics = pictures(f, r);
     let group = match f.group {
@@ -206,6 +409,22 @@ pub(super) fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &
         html.push_str("</ul>\n");
     }
     html.push_str("</div>\n");
+
+    let (data, relabelled) = case_data(f, r, &pics, frames);
+    html.push_str("<div class=\"pictures\">");
+    match relabelled {
+        Labelled::Ids => html.push_str(
+            "<p class=\"relabelled\">This failure showed on a relabelled copy of the input: the pictures and the messages use that copy's ids (<i>input (as sent)</i>), not the ids in the title; the inspector's panel gives both.</p>",
+        ),
+        Labelled::Pointers => html.push_str(
+            "<p class=\"relabelled\">This failure showed on a copy of the input whose pointers (<code>mesh[v].halfedge</code>, <code>mesh[e].halfedge</code>, <code>mesh[f].halfedge</code>) were chosen afresh; its ids are the case's.</p>",
+        ),
+        Labelled::AsBuilt => {}
+    }
+    inspector_html(html, &data, None);
+    html.push_str(
+        "<details class=\"static\" open><summary>static pictures, three fixed views</summary>\n",
+    );
 
     // Pictures: a row per view; columns input, expected (failed cases
     // only: on a pass it is the same as yours), yours.
@@ -282,7 +501,7 @@ pub(super) fn case_html(html: &mut String, f: &Fixture, r: &CaseReport, files: &
         }
         html.push_str("</tr>\n");
     }
-    html.push_str("</tbody></table>\n</div>\n</section>\n");
+    html.push_str("</tbody></table>\n</details></div>\n</div>\n</section>\n");
 }
 
 /// Writes the report for `cases` into `dir` (created if needed) and returns
@@ -305,17 +524,29 @@ pub fn write_report_live(
     cases: &[(&Fixture, &CaseReport)],
     live: bool,
 ) -> Result<PathBuf, String> {
+    let cases: Vec<(&Fixture, &CaseReport, Option<&Frames>)> =
+        cases.iter().map(|&(f, r)| (f, r, None)).collect();
+    write_report_frames(dir, &cases, live)
+}
+
+/// [`write_report_live`] with, per case, the frames of a step-through
+/// (the mesh before each of the student's operations) where there are any.
+pub fn write_report_frames(
+    dir: &Path,
+    cases: &[(&Fixture, &CaseReport, Option<&Frames>)],
+    live: bool,
+) -> Result<PathBuf, String> {
     let io = |p: &Path, e: std::io::Error| format!("{}: {e}", p.display());
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     // Failing cases first, the counted ones before the bonus; otherwise in
     // the grader's order.
-    let mut order: Vec<&(&Fixture, &CaseReport)> = cases.iter().collect();
-    order.sort_by_key(|(f, r)| (r.passed, f.group == Group::Bonus));
-    let failed = order.iter().filter(|(_, r)| !r.passed).count();
+    let mut order: Vec<&(&Fixture, &CaseReport, Option<&Frames>)> = cases.iter().collect();
+    order.sort_by_key(|(f, r, _)| (r.passed, f.group == Group::Bonus));
+    let failed = order.iter().filter(|(_, r, _)| !r.passed).count();
 
     let mut list = String::new();
     let mut body = String::new();
-    for &&(f, r) in &order {
+    for &&(f, r, frames) in &order {
         let write = |name: String, text: String| -> Result<String, String> {
             let path = dir.join(&name);
             std::fs::write(&path, text).map_err(|e| io(&path, e))?;
@@ -359,13 +590,13 @@ pub fn write_report_live(
             escape(&operation(f)),
             escape(&first_warning_shown(r).unwrap_or_default())
         );
-        case_html(&mut body, f, r, &files);
+        case_html(&mut body, f, r, &files, frames);
     }
 
     let mut html = String::with_capacity(body.len() + list.len() + 8192);
     let _ = write!(
         html,
-        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>grader report: {failed} of {} failed</title>\n<style>{STYLE}{}</style>\n{}</head><body>\n<h1>Grader report</h1>\n",
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>grader report: {failed} of {} failed</title>\n<style>{STYLE}{}{INSPECTOR_CSS}</style>\n{}</head><body>\n<h1>Grader report</h1>\n",
         order.len(),
         shade_css(),
         if live { LIVE_SCRIPT } else { "" }
@@ -385,7 +616,9 @@ pub fn write_report_live(
     );
     let _ = writeln!(html, "<div class=\"legend\">{}</div>", legend());
     html.push_str(&body);
-    html.push_str("</body></html>\n");
+    html.push_str("<script>\n");
+    html.push_str(INSPECTOR_JS);
+    html.push_str("</script>\n</body></html>\n");
     let index = dir.join("index.html");
     std::fs::write(&index, html).map_err(|e| io(&index, e))?;
     if live {
