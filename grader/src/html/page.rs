@@ -23,6 +23,9 @@ use crate::grade::{CaseReport, Level};
 const INSPECTOR_JS: &str = include_str!("inspector.js");
 const INSPECTOR_CSS: &str = include_str!("inspector.css");
 
+/// Static pictures of meshes with more vertices show one view, not three.
+const STATIC_VIEWS_LIMIT: usize = 200;
+
 /// Characters of what the student's code printed kept in the page.
 pub(super) const OUTPUT_LIMIT: usize = 6000;
 
@@ -423,7 +426,7 @@ pub(super) fn case_html(
     }
     inspector_html(html, &data, None);
     html.push_str(
-        "<details class=\"static\" open><summary>static pictures, three fixed views</summary>\n",
+        "<noscript><details class=\"static\" open><summary>static pictures, three fixed views</summary>\n",
     );
 
     // Pictures: a row per view; columns input, expected (failed cases
@@ -443,11 +446,18 @@ pub(super) fn case_html(
     }
     html.push_str("<th>yours</th></tr></thead><tbody>\n");
     // A passing case needs fewer pictures: the first view and the opposite.
+    // A large mesh gets one: the inspector turns it any way, and three
+    // views of every large case would make the page too heavy to open.
+    let large = pics
+        .expected
+        .len()
+        .max(pics.yours.as_ref().map_or(0, |y| y.len()))
+        > STATIC_VIEWS_LIMIT;
     let views: Vec<(usize, &View)> = pics
         .cameras
         .iter()
         .enumerate()
-        .filter(|(k, _)| !r.passed || *k != 1)
+        .filter(|(k, _)| (!r.passed || *k != 1) && (!large || *k == 0))
         .collect();
     for &(k, view) in &views {
         let _ = write!(
@@ -501,7 +511,7 @@ pub(super) fn case_html(
         }
         html.push_str("</tr>\n");
     }
-    html.push_str("</tbody></table>\n</details></div>\n</div>\n</section>\n");
+    html.push_str("</tbody></table>\n</details></noscript></div>\n</div>\n</section>\n");
 }
 
 /// Writes the report for `cases` into `dir` (created if needed) and returns
