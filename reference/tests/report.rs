@@ -967,3 +967,60 @@ fn the_whole_lab_failing_makes_a_page_under_5_mb_that_opens_in_2_s() {
     assert!(bytes < 5_000_000, "{bytes} bytes");
     assert!(ready < 2000.0, "ready after {ready} ms");
 }
+
+#[test]
+fn try_report_shows_the_students_own_mesh_with_the_invalid_element_selected() {
+    if !have_chromium() {
+        return;
+    }
+    let dir = scratch("try-report");
+    let cube = common::lab_root().join("crates/halfedge/objects/cube.obj");
+    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .args(["try", "--implementation", "flip-stale-vertex"])
+        .arg(&cube)
+        .args(["--flip", "1", "2", "--report"])
+        .arg(&dir)
+        .arg("-o")
+        .arg(dir.join("flipped.obj"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains(&format!(
+            "open {} in a browser",
+            dir.join("index.html").display()
+        )),
+        "{stdout}"
+    );
+    let named = stdout
+        .split("does not point to that vertex! (")
+        .nth(1)
+        .and_then(|t| t.split(')').next())
+        .unwrap_or_else(|| panic!("{stdout}"))
+        .to_string();
+    let data = case_data(&dir, "try");
+    assert!(data["expected"].is_null() && data["yours"]["h"].is_array());
+    let seen = inspect(
+        &dir,
+        "try",
+        serde_json::json!([["key", "h"], ["key", "v"]]),
+        "inspector-try.png",
+    );
+    assert_eq!(seen["error"]["el"], named.as_str(), "{seen}");
+    // Selected on opening: h goes to its halfedge, v to that one's vertex,
+    // which is not the vertex itself (that is the mistake).
+    let s = seen["steps"].as_array().unwrap();
+    let id: u64 = named[1..].parse().unwrap();
+    let vh = data["yours"]["vh"][id as usize].as_u64().unwrap();
+    assert_eq!(sel(&s[0]), format!("h{vh}"), "{}", s[0]);
+    assert_eq!(s[0]["status"], format!("h: halfedge of {named} is h{vh}"));
+    let v = link(&data["yours"], vh, 2);
+    assert_ne!(v, id);
+    assert_eq!(sel(&s[1]), format!("v{v}"), "{}", s[1]);
+    // The flip's names come from the file's edge 1-2 (v0-v1).
+    assert_eq!(
+        data["names"]["input"][0],
+        serde_json::json!([["e", 1], "e"])
+    );
+}

@@ -213,6 +213,8 @@
     I.sel = null;
     I.build();
     I.resetView();
+    // `try`'s page opens on what validate() found.
+    if (data.select && data.error) { I.selectError(); }
   }
 
   Inspector.prototype.build = function () {

@@ -32,7 +32,9 @@ mod page;
 mod svg;
 
 pub use inspector::{Frames, FRAME_LIMIT};
-pub use page::{write_report, write_report_frames, write_report_live, STAMP_FILE};
+pub use page::{
+    write_report, write_report_frames, write_report_live, write_trial_report, TrialPage, STAMP_FILE,
+};
 
 fn pair(a: usize, b: usize) -> [usize; 2] {
     [a.min(b), a.max(b)]
