@@ -1024,3 +1024,165 @@ fn try_report_shows_the_students_own_mesh_with_the_invalid_element_selected() {
         serde_json::json!([["e", 1], "e"])
     );
 }
+
+/// A page that builds every case's inspector, clicks all over each pane,
+/// presses every key and button, and reports what threw.
+const ROBUST: &str = r#"<!doctype html><meta charset="utf-8">
+<iframe id="f" src="index.html" style="width:1500px;height:1300px"></iframe>
+<pre id="probe">not run</pre>
+<script>
+document.getElementById('f').onload = function () {
+  var out = document.getElementById('probe');
+  var win = this.contentWindow, doc = this.contentDocument, errors = [], built = 0, selected = 0;
+  win.addEventListener('error', function (e) { errors.push(String(e.message)); });
+  try {
+    doc.querySelectorAll('section.case').forEach(function (sec) {
+      var insp = win.meshlabInspect(sec.getAttribute('data-case'));
+      if (!insp) { errors.push('not built: ' + sec.id); return; }
+      built += 1;
+      insp.root.scrollIntoView();
+      insp.root.querySelectorAll('input[type=checkbox]').forEach(function (b) { b.click(); b.click(); });
+      insp.root.querySelector('button.select-error').click();
+      insp.root.querySelectorAll('canvas').forEach(function (cv) {
+        var r = cv.getBoundingClientRect();
+        for (var i = 0; i < 60; i++) {
+          var x = r.left + (i * 37 % 360), y = r.top + (i * 53 % 320);
+          cv.dispatchEvent(new win.MouseEvent('click', { clientX: x, clientY: y, bubbles: true }));
+          if (insp.sel) { selected += 1; }
+          'nthvef'.split('').forEach(function (k) {
+            insp.root.dispatchEvent(new win.KeyboardEvent('keydown', { key: k, bubbles: true }));
+          });
+        }
+        cv.dispatchEvent(new win.WheelEvent('wheel', { deltaY: 300, bubbles: true, cancelable: true }));
+      });
+      insp.root.querySelector('button.reset').click();
+    });
+  } catch (e) { errors.push('threw: ' + e + ' ' + (e.stack || '')); }
+  out.textContent = JSON.stringify({ built: built, selected: selected, errors: errors,
+    failed: doc.querySelectorAll('.inspector-failed').length });
+};
+</script>
+"#;
+
+/// A mesh whose every link may be anything: ids in range or past it,
+/// positions finite, NaN, infinite or astronomically far.
+fn garbage(seed: u64, n: usize) -> halfedge::Mesh {
+    use grader::relabel::Rng;
+    use halfedge::*;
+    let rng = &mut Rng::new(seed);
+    let id = |rng: &mut Rng, len: usize| -> u32 {
+        match rng.below(8) {
+            0 => u32::MAX,
+            1 => (len + rng.below(5)) as u32,
+            _ => rng.below(len.max(1)) as u32,
+        }
+    };
+    let coord = |rng: &mut Rng| match rng.below(12) {
+        0 => f64::NAN,
+        1 => f64::INFINITY,
+        2 => -1e300,
+        3 => 1e9,
+        _ => rng.below(2001) as f64 / 1000.0 - 1.0,
+    };
+    let (nv, ne, nf, nh) = (n, n + 2, n / 2 + 1, 2 * n + 4);
+    let vertices = (0..nv)
+        .map(|_| Vertex {
+            pos: DVec3::new(coord(rng), coord(rng), coord(rng)),
+            new_pos: DVec3::new(coord(rng), 0.0, 0.0),
+            is_new: rng.below(2) == 0,
+            halfedge: HalfedgeId(id(rng, nh)),
+        })
+        .collect();
+    let edges = (0..ne)
+        .map(|_| Edge {
+            halfedge: HalfedgeId(id(rng, nh)),
+            new_pos: DVec3::ZERO,
+            is_new: rng.below(2) == 0,
+        })
+        .collect();
+    let faces = (0..nf)
+        .map(|_| Face {
+            halfedge: HalfedgeId(id(rng, nh)),
+            is_boundary: rng.below(4) == 0,
+        })
+        .collect();
+    let halfedges = (0..nh)
+        .map(|_| Halfedge {
+            twin: HalfedgeId(id(rng, nh)),
+            next: HalfedgeId(id(rng, nh)),
+            vertex: VertexId(id(rng, nv)),
+            edge: EdgeId(id(rng, ne)),
+            face: FaceId(id(rng, nf)),
+        })
+        .collect();
+    Mesh::from_records(vertices, edges, faces, halfedges)
+}
+
+#[test]
+fn the_inspector_survives_any_mesh() {
+    if !have_chromium() {
+        return;
+    }
+    let names = [
+        "cube-split",
+        "cube-flip-1",
+        "cube-subdivide-1",
+        "grid-split-boundary",
+    ];
+    let fixtures: Vec<grader::fixture::Fixture> =
+        grader::fixture::load_all(&common::lab_root().join("fixtures"))
+            .unwrap()
+            .into_iter()
+            .filter(|f| names.contains(&f.name.as_str()))
+            .collect();
+    assert_eq!(fixtures.len(), names.len());
+    for round in 0..3u64 {
+        let reports: Vec<grader::grade::CaseReport> = fixtures
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                let mesh = garbage(
+                    round * 10 + i as u64,
+                    3 + (round as usize * 13 + i * 7) % 40,
+                );
+                let mut r = invalid_like(f, f.input.to_mesh().unwrap(), mesh);
+                r.entries[0].text = "broken (e3) at v1, h999999, f2, h5 and v4294967295".into();
+                r
+            })
+            .collect();
+        let pairs: Vec<_> = fixtures.iter().zip(&reports).collect();
+        let dir = scratch(&format!("inspect-garbage-{round}"));
+        grader::html::write_report(&dir, &pairs).unwrap();
+        std::fs::write(dir.join("robust.html"), ROBUST).unwrap();
+        let dom = browse(
+            &dir,
+            &[
+                "--allow-file-access-from-files",
+                "--virtual-time-budget=10000",
+                "--window-size=1500,1300",
+                "--dump-dom",
+            ],
+            &format!("file://{}", dir.join("robust.html").display()),
+        );
+        let start = dom.find("<pre id=\"probe\">").unwrap() + 16;
+        let text = &dom[start..start + dom[start..].find("</pre>").unwrap()];
+        let seen: Value = serde_json::from_str(
+            &text
+                .replace("&amp;", "&")
+                .replace("&lt;", "<")
+                .replace("&gt;", ">"),
+        )
+        .unwrap_or_else(|e| panic!("{text}: {e}"));
+        assert_eq!(
+            seen["errors"],
+            serde_json::json!([]),
+            "round {round}: {seen}"
+        );
+        assert_eq!(seen["built"], names.len() as u64, "{seen}");
+        assert_eq!(seen["failed"], 0, "{seen}");
+        assert!(
+            seen["selected"].as_u64().unwrap() > 0,
+            "clicks select something: {seen}"
+        );
+    }
+}
