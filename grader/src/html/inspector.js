@@ -325,6 +325,18 @@
     }
     I.draw();
   };
+  // What a pane is framed on: the input on its own box, the expected
+  // result and yours on the expected one's (so that they compare).
+  Inspector.prototype.frameOf = function (pane) {
+    var ref = pane === 'input' ? this.models.input : (this.models.expected || this.models.input || this.models.yours);
+    if (!ref) { return this.cam; }
+    if (ref.frame) { return ref.frame; }
+    // The bounding sphere about the box's centre: whole from any side.
+    var b = ref.bounds(), c = scale(add(b[0], b[1]), 0.5), r = 0;
+    ref.pos.forEach(function (p) { if (p && len(p) <= 1e6) { r = Math.max(r, len(sub(p, c))); } });
+    ref.frame = { center: c, radius: Math.max(r * 1.05, 1e-9) };
+    return ref.frame;
+  };
   Inspector.prototype.turnTo = function (pane, kind, id) {
     var m = this.models[pane];
     if (m) { this.turnToVertices(pane, m.verticesOf(kind, id)); }
@@ -345,12 +357,12 @@
   };
 
   // World to view: yaw about y, then pitch about x; z toward the eye.
-  Inspector.prototype.project = function (p, W, H) {
-    var c = this.cam, q = sub(p, c.center);
+  Inspector.prototype.project = function (p, W, H, frame) {
+    var c = this.cam, f = frame || c, q = sub(p, f.center);
     var cy = Math.cos(c.yaw), sy = Math.sin(c.yaw), cp = Math.cos(c.pitch), sp = Math.sin(c.pitch);
     var x = cy * q[0] + sy * q[2], z1 = -sy * q[0] + cy * q[2];
     var y = cp * q[1] - sp * z1, z = sp * q[1] + cp * z1;
-    var k = Math.min(W, H) * 0.45 / c.radius * c.zoom;
+    var k = Math.min(W, H) * 0.45 / f.radius * c.zoom;
     return [W / 2 + x * k + c.pan[0], H / 2 - y * k + c.pan[1], z * k];
   };
   Inspector.prototype.rotated = function (n) {
@@ -419,7 +431,7 @@
     ctx.fillStyle = '#fff'; ctx.fillRect(0, 0, W, H);
     var S = m.pos.map(function (p) {
       if (!p) { return null; }
-      var s = I.project(p, W, H);
+      var s = I.project(p, W, H, I.frameOf(pane));
       return isFinite(s[0]) && isFinite(s[1]) && Math.abs(s[0]) < 1e6 && Math.abs(s[1]) < 1e6 ? s : null;
     });
     var marks = I.marksOf(pane), L = I.layers, items = [];
