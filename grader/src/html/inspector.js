@@ -414,6 +414,7 @@
 
   Inspector.prototype.label = function (pane, kind, id) {
     var name = this.layers.names ? this.names[pane][kind + id] : null;
+    if (name === kind + id) { name = null; }
     if (pane === 'expected' && kind === 'v') {
       var s = this.models.expected.sid[id];
       return (typeof s === 'number' && s >= 0 ? 'v' + s : '?') + (name ? ' (' + name + ')' : '');
@@ -502,12 +503,12 @@
           items.push({ kind: 'h', id: h, seg: seg, w: 4 });
           // Only the halfedges that have a name: all of them would be unreadable.
           var hname = L.names ? I.names[pane]['h' + h] : null;
-          if (L.labels && (hname || named)) { text([(seg[0] + seg[2]) / 2 - 6, (seg[1] + seg[3]) / 2 + 10], 'h' + h + (hname ? ' (' + hname + ')' : ''), '#6a4c93'); }
+          if (L.labels && (hname || named)) { text([(seg[0] + seg[2]) / 2 - 6, (seg[1] + seg[3]) / 2 + 10], 'h' + h + (hname && hname !== 'h' + h ? ' (' + hname + ')' : ''), '#6a4c93'); }
         }
       }
       var fname = L.names ? I.names[pane]['f' + f.face] : null;
       if (L.labels && f.hs && o.front && (fname || (L.marks && marks.named['f' + f.face]))) {
-        text([cx - 8, cy + 4], 'f' + f.face + (fname ? ' (' + fname + ')' : ''), '#2e5d2e');
+        text([cx - 8, cy + 4], 'f' + f.face + (fname && fname !== 'f' + f.face ? ' (' + fname + ')' : ''), '#2e5d2e');
       }
       f.vs.forEach(function (v, i) {
         var wrong = L.marks && marks.v[v];
