@@ -470,6 +470,7 @@ document.getElementById('f').onload = function () {
       else if (s[0] === 'turn') { insp.cam.yaw += s[1]; insp.cam.pitch = s[2]; insp.draw(); r = { cam: { yaw: insp.cam.yaw, pitch: insp.cam.pitch } }; }
       else if (s[0] === 'selectError') { root.querySelector('button.select-error').click(); r = panel(); r.cam = { yaw: insp.cam.yaw, pitch: insp.cam.pitch }; }
       else if (s[0] === 'toggle') { var b = root.querySelector('input[data-layer="' + s[1] + '"]'); b.click(); r = { checked: b.checked }; }
+      else if (s[0] === 'marks') { r = { shown: insp.panes[s[1]].marksShown }; }
       else if (s[0] === 'frame') {
         var sl = root.querySelector('input.frame-slider');
         sl.value = String(s[1]);
@@ -781,7 +782,13 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
     let seen = inspect(
         &dir,
         "cube-subdivide-2",
-        serde_json::json!([["selectError"], ["clickError"]]),
+        serde_json::json!([
+            ["selectError"],
+            ["clickError"],
+            ["marks", "yours"],
+            ["toggle", "only"],
+            ["marks", "yours"]
+        ]),
         "inspector-subdivide.png",
     );
     let s = seen["steps"].as_array().unwrap();
@@ -799,6 +806,12 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
         "an old vertex is wrong: {}",
         s[1]
     );
+    // First problem only: of every wrong vertex, those beside the selected one.
+    let all = s[2]["shown"].as_u64().unwrap();
+    let near = s[4]["shown"].as_u64().unwrap();
+    let named = data["marks"]["yours"]["named"].as_array().unwrap().len();
+    assert_eq!(all, (wrong.len() + named) as u64, "{}", s[2]);
+    assert!((1..=8).contains(&near), "{near} of {all}");
 
     // The step-through, with frames made here: two rounds on the cube by
     // the model solution, each split recorded before it is made, the 7th

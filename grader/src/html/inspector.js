@@ -546,6 +546,7 @@
       if (L.labels) { text(s, I.label(pane, 'v', v), wrong ? '#c00000' : '#1d2733'); }
     });
     // Marks again, faded, so those behind the surface still show.
+    P.marksShown = L.marks ? Object.keys(marks.v).length + Object.keys(marks.e).length + Object.keys(marks.named).length : 0;
     if (L.marks) {
       ctx.globalAlpha = 0.35;
       Object.keys(marks.v).forEach(function (v) { if (S[v]) { dot(S[v], '#e00000', 4); } });

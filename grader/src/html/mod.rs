@@ -83,6 +83,7 @@ mod tests {
     use std::path::{Path, PathBuf};
 
     use super::faces::Shape;
+    use super::inspector;
     use super::marks::{compare, element_names};
     use super::*;
     use crate::fixture::{Fixture, Operation, Returns};
@@ -333,5 +334,100 @@ mod tests {
         let c = compare(&f, &yours, &expected);
         assert_eq!(c.missing, vec![gone]);
         assert_eq!(c.extra.len(), 1);
+    }
+
+    #[test]
+    fn handout_names_follow_the_tables_from_the_case_edge() {
+        use halfedge::{Element, VertexId};
+        let f = fixture("cube-split");
+        let input = f.input.to_mesh().unwrap();
+        let Operation::Split { edge } = f.operation else {
+            panic!("a split")
+        };
+        let mut result = input.clone();
+        // The old elements, on a result that made nothing (no new names).
+        let (before, after) = inspector::handout_names(&input, edge, true, Some(&result));
+        let get = |name: &str| {
+            before
+                .iter()
+                .find(|(_, n)| *n == name)
+                .map(|(e, _)| *e)
+                .unwrap_or_else(|| panic!("no {name}"))
+        };
+        let h = |name: &str| match get(name) {
+            Element::Halfedge(h) => h,
+            other => panic!("{name} is {other}"),
+        };
+        let v = |name: &str| match get(name) {
+            Element::Vertex(v) => v,
+            other => panic!("{name} is {other}"),
+        };
+        assert_eq!(input[h("h")].twin, h("t"));
+        assert_eq!(input[h("h")].next, h("h1"));
+        assert_eq!(input[h("h1")].next, h("h2"));
+        assert_eq!(input[h("t")].next, h("t1"));
+        assert_eq!(input[h("t1")].next, h("t2"));
+        assert_eq!(input[h("h")].vertex, v("a"));
+        assert_eq!(input[h("t")].vertex, v("b"));
+        assert_eq!(input[h("h2")].vertex, v("c"));
+        assert_eq!(input[h("t2")].vertex, v("d"));
+        let mut ends = [v("a").index(), v("b").index()];
+        ends.sort_unstable();
+        let mut case = edge;
+        case.sort_unstable();
+        assert_eq!(ends, case, "a and b are the case's edge");
+        assert_eq!(before, after, "nothing new to name");
+        // A vertex made, and a halfedge from it to b: m and hb.
+        result.new_vertex(DVec3::ZERO);
+        let m = VertexId::from_index(input.num_vertices());
+        let hb = result.new_halfedge();
+        let tb = result.new_halfedge();
+        result[hb].vertex = m;
+        result[hb].twin = tb;
+        result[tb].vertex = v("b");
+        result[tb].twin = hb;
+        let (_, after) = inspector::handout_names(&input, edge, true, Some(&result));
+        assert!(after.contains(&(Element::Vertex(m), "m")), "{after:?}");
+        assert!(after.contains(&(Element::Halfedge(hb), "hb")), "{after:?}");
+        assert!(after.contains(&(Element::Halfedge(tb), "tb")), "{after:?}");
+    }
+
+    #[test]
+    fn a_relabelled_input_is_given_the_case_numbering() {
+        let f = fixture("cube-split");
+        let input = f.input.to_mesh().unwrap();
+        let labellings = crate::relabel::labellings(&input, f.edge_in(&input), 5, 2);
+        let l = labellings.last().unwrap();
+        // Sent vertex -> case vertex, from the labelling itself.
+        let mut case_of = vec![None; input.num_vertices()];
+        for (case, sent) in l.vertices.iter().enumerate() {
+            case_of[sent.index()] = Some(case);
+        }
+        let [v, e, fs, h] =
+            inspector::case_numbering(&l.mesh, &input, &case_of).expect("ids differ");
+        let (_, _, _, sh) = l.mesh.records();
+        for (i, rec) in sh.iter().enumerate() {
+            let c = h[i] as usize;
+            assert_eq!(
+                input[halfedge::HalfedgeId(c as u32)].vertex.index() as i64,
+                v[rec.vertex.index()]
+            );
+            assert_eq!(
+                input[halfedge::HalfedgeId(c as u32)].edge.index() as i64,
+                e[rec.edge.index()]
+            );
+            assert_eq!(
+                input[halfedge::HalfedgeId(c as u32)].face.index() as i64,
+                fs[rec.face.index()]
+            );
+        }
+        assert_eq!(
+            inspector::case_numbering(
+                &input,
+                &input,
+                &(0..input.num_vertices()).map(Some).collect::<Vec<_>>()
+            ),
+            None
+        );
     }
 }
