@@ -1,12 +1,12 @@
 //! The page: the case list, and per case its verdict, messages, OBJ files,
-//! the inspector and the static pictures; the OBJ files beside it.
+//! the inspector and the static pictures (in a `<noscript>`); the OBJ files
+//! beside it. Also `try --report`'s page, on the same pieces.
 
+use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use halfedge::Mesh;
-
-use std::collections::HashSet;
 
 use super::escape;
 use super::faces::Shape;
@@ -338,11 +338,8 @@ fn case_data(
 /// The inspector's place in a case: its data, and the element the script
 /// fills (hidden until it runs, so a page without script shows nothing
 /// of it).
-fn inspector_html(html: &mut String, data: &str, note: Option<&str>) {
+fn inspector_html(html: &mut String, data: &str) {
     html.push_str("<div class=\"inspector\" hidden>");
-    if let Some(n) = note {
-        let _ = write!(html, "<p class=\"relabelled\">{}</p>", escape(n));
-    }
     html.push_str("<script type=\"application/json\" class=\"inspector-data\">");
     html.push_str(data);
     html.push_str("</script></div>\n");
@@ -426,7 +423,7 @@ pub(super) fn case_html(
         ),
         Labelled::AsBuilt => {}
     }
-    inspector_html(html, &data, None);
+    inspector_html(html, &data);
     html.push_str(
         "<noscript><details class=\"static\" open><summary>static pictures, three fixed views</summary>\n",
     );
@@ -762,7 +759,7 @@ pub fn write_trial_report(dir: &Path, page: &TrialPage) -> Result<PathBuf, Strin
         );
     }
     html.push_str("</div>\n<div class=\"pictures\">");
-    inspector_html(&mut html, &data, None);
+    inspector_html(&mut html, &data);
     // The static pictures: input and yours, from a corner.
     html.push_str("<noscript><details class=\"static\" open><summary>static pictures</summary>\n<table class=\"pics\"><thead><tr><th>input</th><th>yours</th></tr></thead><tbody><tr><td class=\"input\">");
     let dir3 = halfedge::DVec3::new(0.55, 0.45, 0.75);
