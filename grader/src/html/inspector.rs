@@ -18,6 +18,9 @@ use super::marks::{Marks, Named};
 
 /// The most frames written per case; the rest are cut (and the page says so).
 pub const FRAME_LIMIT: usize = 200;
+/// The most bytes of frames written per case (a frame of a large mesh is
+/// a few hundred kilobytes): past it, the frames are cut too.
+pub const FRAME_BYTES: usize = 4 << 20;
 
 /// A step-through of the student's own subdivision: the mesh before each
 /// split or flip their `loop_subdivide` made, and the end state.
@@ -433,39 +436,46 @@ pub(super) fn case_numbering(
     Some([vmap, emap, fmap, hmap])
 }
 
-/// Frames as JSON: `[{"label":..,"mesh":..},..]`, at most [`FRAME_LIMIT`].
+/// Frames as JSON: `{"list":[{"label":..,"mesh":..},..],"firstBroken":k,
+/// "cut":..}`, at most [`FRAME_LIMIT`] frames and [`FRAME_BYTES`] bytes.
 pub(super) fn frames_json(out: &mut String, frames: &Frames) {
-    out.push_str("{\"list\":");
-    list(
-        out,
-        frames.meshes.iter().take(FRAME_LIMIT),
-        |o, (label, mesh)| {
-            o.push_str("{\"label\":");
-            string(o, label);
-            o.push_str(",\"mesh\":");
-            mesh_json(o, mesh);
-            o.push('}');
-        },
-    );
-    out.push_str(",\"firstBroken\":");
-    match frames.first_broken {
+    let start = out.len();
+    out.push_str("{\"list\":[");
+    let mut written = 0;
+    for (label, mesh) in frames.meshes.iter().take(FRAME_LIMIT) {
+        let mut one = String::from("{\"label\":");
+        string(&mut one, label);
+        one.push_str(",\"mesh\":");
+        mesh_json(&mut one, mesh);
+        one.push('}');
+        if written > 0 && out.len() - start + one.len() > FRAME_BYTES {
+            break;
+        }
+        if written > 0 {
+            out.push(',');
+        }
+        out.push_str(&one);
+        written += 1;
+    }
+    out.push_str("],\"firstBroken\":");
+    match frames.first_broken.filter(|&k| k < written) {
         Some(k) => {
             let _ = write!(out, "{k}");
         }
         None => out.push_str("null"),
     }
     out.push_str(",\"cut\":");
-    let cut = match (&frames.cut, frames.meshes.len() > FRAME_LIMIT) {
-        (Some(c), _) => Some(c.clone()),
-        (None, true) => Some(format!(
-            "the page shows the first {FRAME_LIMIT} of {} frames",
-            frames.meshes.len()
-        )),
-        (None, false) => None,
-    };
-    match cut {
-        Some(c) => string(out, &c),
-        None => out.push_str("null"),
+    let total = frames.meshes.len();
+    let mut cut: Vec<String> = frames.cut.iter().cloned().collect();
+    if written < total {
+        cut.push(format!(
+            "the page shows the first {written} of {total} frames"
+        ));
+    }
+    if cut.is_empty() {
+        out.push_str("null");
+    } else {
+        string(out, &cut.join("; "));
     }
     out.push('}');
 }

@@ -430,4 +430,51 @@ mod tests {
             None
         );
     }
+
+    #[test]
+    fn frames_past_the_limits_are_cut_and_the_page_says_so() {
+        let f = fixture("cube-subdivide-1");
+        let mesh = f.input.to_mesh().unwrap();
+        let report = failed(&f, Some(mesh.clone()), "wrong");
+        let blob = |frames: &Frames| {
+            let dir = scratch("frames");
+            let index = write_report_frames(&dir, &[(&f, &report, Some(frames))], false).unwrap();
+            let html = std::fs::read_to_string(index).unwrap();
+            let tag = "<script type=\"application/json\" class=\"inspector-data\">";
+            let blob = html.split(tag).nth(1).unwrap();
+            let data: serde_json::Value =
+                serde_json::from_str(&blob[..blob.find("</script>").unwrap()]).unwrap();
+            data["frames"].clone()
+        };
+        let many = Frames {
+            meshes: (0..FRAME_LIMIT + 50)
+                .map(|k| (format!("before split {k}"), mesh.clone()))
+                .collect(),
+            first_broken: Some(FRAME_LIMIT + 10),
+            cut: None,
+        };
+        let frames = blob(&many);
+        assert_eq!(frames["list"].as_array().unwrap().len(), FRAME_LIMIT);
+        assert_eq!(frames["list"][3]["label"], "before split 3");
+        assert!(
+            frames["firstBroken"].is_null(),
+            "past the cut: {}",
+            frames["firstBroken"]
+        );
+        assert_eq!(
+            frames["cut"],
+            format!(
+                "the page shows the first {FRAME_LIMIT} of {} frames",
+                FRAME_LIMIT + 50
+            )
+        );
+        let few = Frames {
+            meshes: vec![("a".into(), mesh.clone()), ("b".into(), mesh)],
+            first_broken: Some(1),
+            cut: Some("the recording stopped at 32 MB".into()),
+        };
+        let frames = blob(&few);
+        assert_eq!(frames["firstBroken"], 1);
+        assert_eq!(frames["cut"], "the recording stopped at 32 MB");
+    }
 }
