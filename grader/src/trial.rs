@@ -1,7 +1,9 @@
 //! `cargo run -p grader -- try FILE.obj --subdivide N | --flip A B |
-//! --split A B [-o OUT.obj]`: runs the student's function on any mesh, in
-//! the same locked-in child as a graded case, says what is wrong with the
-//! result (naming elements) and writes it as OBJ to look at.
+//! --split A B [-o OUT.obj] [--report DIR]`: runs the student's function on
+//! any mesh, in the same locked-in child as a graded case, says what is
+//! wrong with the result (naming elements) and writes it as OBJ to look at,
+//! and with `--report` the report's page for it (input and result in the
+//! inspector, `validate()`'s element selected when it fails).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -47,18 +49,29 @@ pub struct TryCli {
     /// Subdivide past 5 million faces anyway.
     #[arg(long, value_name = "N")]
     pub max_faces: Option<u64>,
+    /// Also write a page to look at the input and your result in (DIR/index.html).
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
 }
 
-/// A line in the lab's format, `trial.rs:LINE [info] ...`.
+/// A line in the lab's format, `trial.rs:LINE [info] ...`, also kept for
+/// the page `--report` writes.
 macro_rules! say {
-    ($warn:expr, $text:expr $(,)?) => {
+    ($warn:expr, $text:expr $(,)?) => {{
+        let text: &str = $text;
         println!(
             "trial.rs:{} [{}] {}",
             line!(),
             if $warn { "warn" } else { "info" },
-            $text
-        )
-    };
+            text
+        );
+        SAID.with(|s| s.borrow_mut().push(($warn, text.to_string())));
+    }};
+}
+
+thread_local! {
+    /// What `say!` said, for the page.
+    static SAID: std::cell::RefCell<Vec<(bool, String)>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 fn fail(text: &str) -> ExitCode {
@@ -100,8 +113,45 @@ fn operation(cli: &TryCli, mesh: &Mesh) -> Result<(Op, String), String> {
     }
 }
 
-/// Runs `try`.
+/// What the page needs beyond what was said.
+#[derive(Default)]
+struct Seen {
+    input: Option<Mesh>,
+    result: Option<Mesh>,
+    output: String,
+    edge: Option<([usize; 2], bool)>,
+    title: String,
+}
+
+/// Runs `try`, then writes its page if `--report` asks for one.
 pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
+    let mut seen = Seen::default();
+    let code = run(cli, program, &mut seen);
+    let (Some(dir), Some(input)) = (&cli.report, &seen.input) else {
+        return code;
+    };
+    let page = crate::html::TrialPage {
+        title: seen.title.clone(),
+        lines: SAID.with(|s| s.borrow().clone()),
+        output: seen.output.clone(),
+        input,
+        result: seen.result.as_ref(),
+        edge: seen.edge,
+    };
+    match crate::html::write_trial_report(dir, &page) {
+        Ok(index) => {
+            println!(
+                "trial.rs:{} [info] the page: open {} in a browser",
+                line!(),
+                index.display()
+            );
+            code
+        }
+        Err(e) => fail(&e),
+    }
+}
+
+fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
     if !(cli.timeout >= 0.1 && cli.timeout <= 3600.0) {
         return fail(&format!(
             "--timeout {} is out of range: give a number of seconds from 0.1 to 3600",
@@ -115,6 +165,12 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     let (op, word) = match operation(cli, &mesh) {
         Ok(x) => x,
         Err(e) => return fail(&e),
+    };
+    seen.input = Some(mesh.clone());
+    seen.edge = match (&cli.flip, &cli.split) {
+        (Some(ab), _) => Some(([ab[0] - 1, ab[1] - 1], false)),
+        (_, Some(ab)) => Some(([ab[0] - 1, ab[1] - 1], true)),
+        _ => None,
     };
     let output = cli.output.clone().unwrap_or_else(|| {
         let stem = cli
@@ -145,6 +201,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
             mesh.num_real_faces()
         ),
     );
+    seen.title = format!("{function} on {} ({word})", cli.file.display());
     runner::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
@@ -183,6 +240,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     let _ = done.send(());
     let _ = ticker.join();
     let took = start.elapsed().as_secs_f64();
+    seen.output = raw.output.clone();
     print!(
         "{}",
         crate::quoted::Quoted::new(raw.output.clone()).block("    ")
@@ -201,6 +259,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
         wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } => Some(mesh.clone()),
         wire::Ran::Panicked { .. } => None,
     };
+    seen.result = result.clone();
     match child::analyze(op, &mesh, ran) {
         // `try` sends one operation, never a sequence.
         Outcome::Sequence { .. } => ExitCode::from(1),

@@ -1,0 +1,602 @@
+//! What is wrong, as marks: the student's result compared with the
+//! expected one (matched, missing, extra), the elements the messages are
+//! about, the case's edge, and where the pictures look from.
+
+use halfedge::{DVec3, EdgeId, Element, FaceId, HalfedgeId, Mesh, VertexId};
+
+use super::faces::{Shape, MAX_DEGREE};
+use super::svg::{Camera, Prepared};
+use super::{fmt_d, fmt_p, pair, sides};
+use crate::fixture::{Fixture, Operation, Returns};
+use crate::grade::{CaseReport, Entry, Level};
+use crate::matching::{self, VertexMatch};
+
+/// Meshes with fewer vertices get their ids written beside the vertices.
+pub(super) const LABEL_LIMIT: usize = 60;
+
+/// What is marked on one picture.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Marks {
+    /// Vertices drawn red, with their tooltip.
+    pub(super) wrong_points: Vec<(usize, String)>,
+    /// Edges drawn red.
+    pub(super) wrong_edges: Vec<[usize; 2]>,
+    /// Where an expected vertex nobody matched is: a hollow red ring.
+    pub(super) ghost_points: Vec<(DVec3, String)>,
+    /// Expected edges the student lacks, at the expected positions: dashed red.
+    pub(super) ghost_edges: Vec<[DVec3; 2]>,
+    /// From a vertex of yours to where it should be: dashed red.
+    pub(super) moves: Vec<[DVec3; 2]>,
+    /// The case's edge or new vertex, orange.
+    pub(super) focus_edges: Vec<[usize; 2]>,
+    pub(super) focus_points: Vec<usize>,
+    /// Elements the messages name (`v7`, `e229`, `h40`, `f3`), purple.
+    pub(super) named: Vec<Named>,
+    /// A vertex's label (the student's id), for small meshes.
+    pub(super) labels: Vec<Option<String>>,
+    /// The `data-kind` of this picture's red markers: `yours`, `expected`.
+    pub(super) side: &'static str,
+}
+
+/// An element a message names, found in the mesh it names it in.
+#[derive(Clone, Debug)]
+pub(super) enum Named {
+    Vertex(usize, String),
+    /// An edge or a halfedge: its two ends.
+    Edge([usize; 2], String),
+    /// A face: its corners, as far as its `next` walk goes.
+    Face(Vec<usize>, String),
+}
+
+/// The most named elements drawn per case.
+pub(super) const NAMED_LIMIT: usize = 12;
+
+/// The elements a case's messages are about, in order, each once.
+///
+/// THE SEAM: this is the one place the report reads the grader's message
+/// text (for `v7`, `e229`, `h40`, `f3`, as the halfedge crate prints
+/// them). When entries carry their elements as data (issue 17, part B),
+/// only this function changes: it will read `entry.elements` instead.
+pub(super) fn named_elements(entries: &[Entry]) -> Vec<Element> {
+    let texts: Vec<&str> = entries
+        .iter()
+        .filter(|e| e.level != Level::Info)
+        .map(|e| e.text.as_str())
+        .collect();
+    element_names(&texts)
+}
+
+/// The element ids written in `texts`, in order, each once.
+pub(super) fn element_names(texts: &[&str]) -> Vec<Element> {
+    let mut found = Vec::new();
+    for text in texts {
+        let chars: Vec<char> = text.chars().collect();
+        let mut i = 0;
+        while i < chars.len() {
+            let starts = i == 0 || !chars[i - 1].is_alphanumeric() && chars[i - 1] != '_';
+            if starts && matches!(chars[i], 'v' | 'e' | 'h' | 'f') {
+                let digits: String = chars[i + 1..]
+                    .iter()
+                    .take_while(|c| c.is_ascii_digit())
+                    .collect();
+                let after = chars.get(i + 1 + digits.len());
+                let ends = after.is_none_or(|c| !c.is_alphanumeric() && *c != '_');
+                if !digits.is_empty() && ends {
+                    if let Ok(n) = digits.parse::<u32>() {
+                        let element = match chars[i] {
+                            'v' => Element::Vertex(VertexId(n)),
+                            'e' => Element::Edge(EdgeId(n)),
+                            'h' => Element::Halfedge(HalfedgeId(n)),
+                            _ => Element::Face(FaceId(n)),
+                        };
+                        if !found.contains(&element) {
+                            found.push(element);
+                        }
+                    }
+                }
+                i += 1 + digits.len();
+            } else {
+                i += 1;
+            }
+        }
+    }
+    found
+}
+
+/// Finds named elements in `mesh`, every id bounds-checked.
+pub(super) fn resolve_names(mesh: &Mesh, names: &[Element]) -> Vec<Named> {
+    let (vertices, edges, faces, halfedges) = mesh.records();
+    let nv = vertices.len();
+    let ends = |h: usize| -> Option<[usize; 2]> {
+        let record = halfedges.get(h)?;
+        let to = halfedges
+            .get(record.twin.index())
+            .or_else(|| halfedges.get(record.next.index()))?;
+        let (a, b) = (record.vertex.index(), to.vertex.index());
+        (a < nv && b < nv && a != b).then_some([a, b])
+    };
+    names
+        .iter()
+        .filter_map(|&element| {
+            let name = element.to_string();
+            match element {
+                Element::Vertex(v) if v.index() < nv => Some(Named::Vertex(v.index(), name)),
+                Element::Vertex(_) => None,
+                Element::Edge(e) => Some(Named::Edge(
+                    ends(edges.get(e.index())?.halfedge.index())?,
+                    name,
+                )),
+                Element::Halfedge(h) => Some(Named::Edge(ends(h.index())?, name)),
+                Element::Face(n) => {
+                    let n = n.index();
+                    let start = faces.get(n)?.halfedge.index();
+                    let mut corners = Vec::new();
+                    let mut h = start;
+                    while let Some(record) = halfedges.get(h) {
+                        if record.vertex.index() >= nv || corners.len() >= MAX_DEGREE {
+                            break;
+                        }
+                        corners.push(record.vertex.index());
+                        h = record.next.index();
+                        if h == start {
+                            break;
+                        }
+                    }
+                    (corners.len() >= 2).then_some(Named::Face(corners, name))
+                }
+            }
+        })
+        .take(NAMED_LIMIT)
+        .collect()
+}
+
+/// The student's result compared with the expected one, for marking: the
+/// grader's own matching, run on whatever the student left, then the
+/// leftovers paired (a vertex of yours in the wrong place and the expected
+/// vertex it stands for), so that a misplaced vertex does not also make
+/// every edge around it look wrong.
+pub(super) struct Comparison {
+    /// Student vertex -> the expected vertex matched by position.
+    pub(super) matched: Vec<Option<usize>>,
+    /// Expected vertices no student vertex is near, in index order.
+    pub(super) unmatched_expected: Vec<usize>,
+    /// Expected vertex -> the student's vertex matched or paired with it.
+    pub(super) student_of: Vec<Option<usize>>,
+    /// Student vertex -> the expected vertex it was paired with, though
+    /// not in place.
+    pub(super) displaced: Vec<Option<usize>>,
+    /// Expected edges no student edge maps to (expected numbering).
+    pub(super) missing: Vec<[usize; 2]>,
+    /// Student edges that are not expected (student numbering).
+    pub(super) extra: Vec<[usize; 2]>,
+}
+
+/// Leftovers paired only when there are few of them, by distance.
+pub(super) const PAIR_BY_DISTANCE: usize = 300;
+
+pub(super) fn compare(f: &Fixture, yours: &Shape, expected: &Shape) -> Comparison {
+    // Positions the hash grid can take: a cell index must fit an i64.
+    let tol = f.tolerance.max(1e-300);
+    let sane = |p: &Option<DVec3>| match p {
+        Some(p) if p.abs().max_element() / tol < 1e15 => p.to_array(),
+        _ => [f64::NAN; 3],
+    };
+    let mine: Vec<[f64; 3]> = yours.points.iter().map(sane).collect();
+    let theirs: Vec<[f64; 3]> = expected.points.iter().map(sane).collect();
+    let m: VertexMatch =
+        matching::match_by_neighbourhood(&mine, &yours.edges, &theirs, &expected.edges, tol);
+    let mut to_expected = m.to_expected.clone();
+    let mut student_of = vec![None; expected.len()];
+    for (s, e) in to_expected.iter().enumerate() {
+        if let Some(slot) = e.and_then(|e| student_of.get_mut(e)) {
+            *slot = Some(s);
+        }
+    }
+    // Pair leftovers: each takes the free expected vertex that shares the
+    // most already-paired neighbours with it, nearest first; twice, so that
+    // pairs found in the first round help the second.
+    let mine_adj = crate::matching::adjacency(yours.len(), &yours.edges);
+    let theirs_adj = crate::matching::adjacency(expected.len(), &expected.edges);
+    let mut displaced = vec![None; yours.len()];
+    for round in 0..3 {
+        let left: Vec<usize> = (0..yours.len())
+            .filter(|&s| to_expected[s].is_none() && yours.point(s).is_some())
+            .collect();
+        let free: Vec<usize> = (0..expected.len())
+            .filter(|&e| student_of[e].is_none())
+            .collect();
+        if left.is_empty() || free.is_empty() {
+            break;
+        }
+        for s in left {
+            let p = yours.point(s).unwrap_or(DVec3::ZERO);
+            let dist = |e: usize| expected.point(e).map_or(f64::INFINITY, |q| q.distance(p));
+            let candidates: Vec<usize> = if round < 2 {
+                // Expected neighbours of the expected vertices my neighbours stand for.
+                let mut c: Vec<usize> = mine_adj[s]
+                    .iter()
+                    .filter_map(|&n| to_expected[n])
+                    .flat_map(|e| theirs_adj[e].iter().copied())
+                    .filter(|&e| student_of[e].is_none())
+                    .collect();
+                c.sort_unstable();
+                c.dedup();
+                c
+            } else if free.len() <= PAIR_BY_DISTANCE {
+                free.iter()
+                    .copied()
+                    .filter(|&e| student_of[e].is_none())
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let shared = |e: usize| {
+                mine_adj[s]
+                    .iter()
+                    .filter(|&&n| {
+                        to_expected[n].is_some_and(|x| theirs_adj[e].binary_search(&x).is_ok())
+                    })
+                    .count()
+            };
+            let best = candidates
+                .into_iter()
+                .map(|e| (shared(e), dist(e), e))
+                .filter(|&(k, _, _)| round == 2 || k >= 2 - round)
+                .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+            if let Some((_, _, e)) = best {
+                to_expected[s] = Some(e);
+                student_of[e] = Some(s);
+                displaced[s] = Some(e);
+            }
+        }
+    }
+    let paired = VertexMatch {
+        to_expected: to_expected.clone(),
+        unmatched_expected: Vec::new(),
+    };
+    let mapped = matching::mapped_edges(&yours.edges, &paired);
+    let diff = matching::diff_edges(&mapped, &expected.edges);
+    let extra = diff
+        .extra
+        .iter()
+        .filter_map(|&[a, b]| {
+            Some(pair(
+                student_of.get(a).copied()??,
+                student_of.get(b).copied()??,
+            ))
+        })
+        .collect();
+    Comparison {
+        matched: m.to_expected,
+        unmatched_expected: m.unmatched_expected,
+        student_of,
+        displaced,
+        missing: diff.missing,
+        extra,
+    }
+}
+
+/// One direction the case is seen from: a camera framing the input, one
+/// framing the expected result (and yours), and why it looks there.
+pub(super) struct View {
+    pub(super) input: Camera,
+    pub(super) result: Camera,
+    pub(super) why: &'static str,
+}
+
+/// Everything shown for one case, computed before any HTML is written.
+pub(super) struct CasePictures {
+    pub(super) input: Shape,
+    pub(super) expected: Shape,
+    pub(super) yours: Option<Shape>,
+    pub(super) marks_input: Marks,
+    pub(super) marks_expected: Marks,
+    pub(super) marks_yours: Marks,
+    /// Why a view looks where it does, per view.
+    pub(super) cameras: Vec<View>,
+    /// Lines said under the pictures (vertices not drawn, and so on).
+    pub(super) notes: Vec<String>,
+    /// Input vertex as sent -> the fixture's (the case's) vertex.
+    pub(super) case_of: Vec<Option<usize>>,
+    /// Expected vertex -> the student's vertex matched or paired with it.
+    pub(super) student_of_expected: Vec<Option<usize>>,
+    /// The case's edge in the input as sent.
+    pub(super) case_edge: Option<[usize; 2]>,
+    /// The expected result's new vertex (a split's), expected numbering.
+    pub(super) new_vertex: Option<usize>,
+}
+
+pub(super) fn labels_for(n: usize, name: impl Fn(usize) -> Option<usize>) -> Vec<Option<String>> {
+    if n >= LABEL_LIMIT {
+        return Vec::new();
+    }
+    (0..n).map(|i| name(i).map(|v| format!("v{v}"))).collect()
+}
+
+pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
+    let fixture_input = Shape::from_faces(&f.input.positions, &f.input.faces);
+    let input = r
+        .input
+        .as_ref()
+        .map(Shape::from_mesh)
+        .unwrap_or_else(|| fixture_input.clone());
+    let expected = Shape::expected(f);
+    let yours = r.result.as_ref().map(Shape::from_mesh);
+    let tol = f.tolerance.max(1e-300);
+    let n_in = fixture_input.len();
+
+    // The input as sent has its ids permuted: find each fixture vertex's id.
+    let as_array = |s: &Shape| -> Vec<[f64; 3]> {
+        s.points
+            .iter()
+            .map(|p| p.map_or([f64::NAN; 3], |p| p.to_array()))
+            .collect()
+    };
+    // A seam like `named_elements`: `relabel.rs` knows the permutation;
+    // when the report carries it (issue 17, part B) this reads it instead
+    // of matching the input as sent to the fixture's by position.
+    let relabel = matching::match_by_neighbourhood(
+        &as_array(&input),
+        &input.edges,
+        &as_array(&fixture_input),
+        &fixture_input.edges,
+        tol,
+    );
+    let case_of = relabel.to_expected.clone();
+    let mut id_of = vec![None; n_in];
+    for (sent, fixture) in relabel.to_expected.iter().enumerate() {
+        if let Some(slot) = fixture.and_then(|i| id_of.get_mut(i)) {
+            *slot = Some(sent);
+        }
+    }
+    let id = |i: usize| id_of.get(i).copied().flatten();
+
+    let cmp = yours.as_ref().map(|y| compare(f, y, &expected));
+    let mut notes = Vec::new();
+
+    // Input: the case's edge.
+    let case_edge = match f.operation {
+        Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] } => {
+            id(a).zip(id(b)).map(|(a, b)| pair(a, b))
+        }
+        Operation::Subdivide { .. } | Operation::Sequence { .. } => None,
+    };
+    let mut marks_input = Marks {
+        focus_edges: case_edge.into_iter().collect(),
+        labels: labels_for(input.len(), Some),
+        side: "input",
+        ..Marks::default()
+    };
+
+    // Expected: its labels are the student's ids (matched, else the id the
+    // vertex had in the input), its red what nobody matched.
+    let student_of = |i: usize| {
+        cmp.as_ref()
+            .and_then(|c| c.student_of.get(i).copied().flatten())
+    };
+    let mut marks_expected = Marks {
+        labels: labels_for(expected.len(), |i| {
+            student_of(i).or_else(|| if i < n_in { id(i) } else { None })
+        }),
+        side: "expected",
+        ..Marks::default()
+    };
+    let new_vertex = match f.expected.returns {
+        Some(Returns::Vertex { position }) => matching::nearest(&as_array(&expected), position)
+            .filter(|&(_, d)| d <= tol)
+            .map(|(k, _)| k),
+        _ => None,
+    };
+    match (f.expected.returns, f.operation) {
+        (Some(Returns::Edge { ends: [c, d] }), _) => marks_expected.focus_edges.push(pair(c, d)),
+        (
+            Some(Returns::Refused),
+            Operation::Flip { edge: [a, b] } | Operation::Split { edge: [a, b] },
+        ) => marks_expected.focus_edges.push(pair(a, b)),
+        _ => {}
+    }
+    marks_expected.focus_points.extend(new_vertex);
+
+    let mut marks_yours = Marks {
+        side: "yours",
+        ..Marks::default()
+    };
+    if let Some(y) = &yours {
+        marks_yours.labels = labels_for(y.len(), Some);
+        let not_drawn: Vec<String> = y
+            .points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.is_none())
+            .map(|(i, _)| format!("v{i}"))
+            .collect();
+        if !not_drawn.is_empty() {
+            let more = if not_drawn.len() > 8 {
+                format!(" and {} more", not_drawn.len() - 8)
+            } else {
+                String::new()
+            };
+            notes.push(format!(
+                "not drawn, their position is not a finite number: {}{more}",
+                not_drawn[..not_drawn.len().min(8)].join(", ")
+            ));
+        }
+        // The case's element, where the student has it.
+        for &[a, b] in &marks_expected.focus_edges {
+            if let (Some(a), Some(b)) = (student_of(a), student_of(b)) {
+                if y.edges.contains(&pair(a, b)) {
+                    marks_yours.focus_edges.push(pair(a, b));
+                }
+            }
+        }
+        marks_yours
+            .focus_points
+            .extend(new_vertex.and_then(student_of));
+    }
+    // Elements the messages name, where the student's code left them (or
+    // in the input, when it left no mesh).
+    if !r.passed {
+        let names = named_elements(&r.entries);
+        match (&r.result, &r.input) {
+            (Some(mesh), _) => marks_yours.named = resolve_names(mesh, &names),
+            (None, Some(mesh)) => marks_input.named = resolve_names(mesh, &names),
+            (None, None) => {}
+        }
+    }
+    // Red only on a failure (a pass may differ within the tolerance).
+    if let (Some(c), Some(y), false) = (&cmp, &yours, r.passed) {
+        for (s, e) in c.matched.iter().enumerate() {
+            let Some(p) = y.point(s).filter(|_| e.is_none()) else {
+                continue;
+            };
+            let title = match c.displaced[s].and_then(|k| Some((k, expected.point(k)?))) {
+                Some((_, q)) => {
+                    marks_yours.moves.push([p, q]);
+                    format!(
+                        "your v{s} is at {}: it should be at {} ({} away)",
+                        fmt_p(p),
+                        fmt_p(q),
+                        fmt_d(p.distance(q))
+                    )
+                }
+                None => format!(
+                    "your v{s} at {}: no expected vertex is within {} of it",
+                    fmt_p(p),
+                    f.tolerance
+                ),
+            };
+            marks_yours.wrong_points.push((s, title));
+        }
+        for &k in &c.unmatched_expected {
+            let Some(q) = expected.point(k) else { continue };
+            let stands = match c.student_of[k] {
+                Some(s) => format!("; your v{s} stands for it"),
+                None => "; none of yours stands for it".to_string(),
+            };
+            let title = format!(
+                "expected a vertex at {}: none of yours is within {}{stands}",
+                fmt_p(q),
+                f.tolerance
+            );
+            marks_expected.wrong_points.push((k, title.clone()));
+            marks_yours.ghost_points.push((q, title));
+        }
+        marks_expected.wrong_edges = c.missing.clone();
+        // A missing edge is drawn between your vertices where you have them.
+        let place = |k: usize| {
+            c.student_of[k]
+                .and_then(|s| y.point(s))
+                .or_else(|| expected.point(k))
+        };
+        marks_yours.ghost_edges = c
+            .missing
+            .iter()
+            .filter_map(|&[a, b]| Some([place(a)?, place(b)?]))
+            .collect();
+        marks_yours.wrong_edges = c.extra.clone();
+        if marks_yours.wrong_points.is_empty()
+            && marks_yours.ghost_points.is_empty()
+            && c.missing.is_empty()
+            && c.extra.is_empty()
+        {
+            notes.push(
+                "your mesh has the expected vertices and edges: what failed is not in its shape (see the messages)"
+                    .to_string(),
+            );
+        }
+    }
+
+    // Where to look from: at the case's edge, else at the first problem,
+    // else from a corner.
+    let middle = |s: &Shape| s.bounds().map(|(lo, hi)| (lo + hi) / 2.0);
+    let input_center = middle(&input).unwrap_or(DVec3::ZERO);
+    let center = middle(&expected).unwrap_or(input_center);
+    let edge_normal = case_edge.and_then(|[a, b]| {
+        let prepared = Prepared::new(&input);
+        let n: DVec3 = input
+            .faces
+            .iter()
+            .filter(|face| sides(face).any(|s| s == [a, b]))
+            .filter_map(|face| input.face_normal(face))
+            .map(|n| n.normalize_or_zero() * prepared.outward)
+            .sum();
+        n.try_normalize().or_else(|| {
+            let m = (input.point(a)? + input.point(b)?) / 2.0 - input_center;
+            m.try_normalize()
+        })
+    });
+    // The first problem, seen along the surface's normal there (from the
+    // centre where the surface says nothing).
+    let looking_at = |s: &Shape, vertices: &[usize]| -> Option<DVec3> {
+        let p = vertices.iter().filter_map(|&v| s.point(v)).sum::<DVec3>()
+            / vertices.len().max(1) as f64;
+        let outward = Prepared::new(s).outward;
+        let n: DVec3 = s
+            .faces
+            .iter()
+            .filter(|face| face.iter().any(|v| vertices.contains(v)))
+            .filter_map(|face| s.face_normal(face))
+            .map(|n| n.normalize_or_zero() * outward)
+            .sum();
+        n.try_normalize().or_else(|| (p - center).try_normalize())
+    };
+    let problem = marks_expected
+        .wrong_points
+        .first()
+        .and_then(|(k, _)| looking_at(&expected, &[*k]))
+        .or_else(|| {
+            let (s, _) = marks_yours.wrong_points.first()?;
+            looking_at(yours.as_ref()?, &[*s])
+        })
+        .or_else(|| {
+            let [a, b] = *marks_expected.wrong_edges.first()?;
+            looking_at(&expected, &[a, b])
+        });
+    let (dir, why) = match (edge_normal, problem) {
+        (Some(n), _) => (n, "facing the case's edge"),
+        (None, Some(n)) => (n, "facing the first problem"),
+        (None, None) => (DVec3::new(0.55, 0.45, 0.75), "from a corner"),
+    };
+    // A little from above, so that no view is exactly edge-on.
+    let d1 = (dir + DVec3::new(0.12, 0.3, 0.08))
+        .try_normalize()
+        .unwrap_or(DVec3::Z);
+    let d2 = DVec3::new(d1.z, d1.y, -d1.x);
+    let cameras = [
+        (d1, why),
+        (d2, "turned a quarter round"),
+        (-d1, "from the opposite side"),
+    ]
+    .into_iter()
+    .map(|(d, why)| View {
+        // The input in its own frame, the expected result and yours in the
+        // expected one's (yours may be anywhere: what lies outside is
+        // pinned to the border).
+        input: Camera::fit(d, &input.points),
+        result: Camera::fit(
+            d,
+            if expected.bounds().is_some() {
+                &expected.points
+            } else {
+                &input.points
+            },
+        ),
+        why,
+    })
+    .collect();
+    let student_of_expected = (0..expected.len()).map(student_of).collect();
+    CasePictures {
+        input,
+        expected,
+        yours,
+        marks_input,
+        marks_expected,
+        marks_yours,
+        cameras,
+        notes,
+        case_of,
+        student_of_expected,
+        case_edge,
+        new_vertex,
+    }
+}
