@@ -136,4 +136,4 @@ pub use build::MeshError;
 pub use glam::DVec3;
 pub use ids::{EdgeId, Element, FaceId, HalfedgeId, Ids, VertexId};
 pub use mesh::{Edge, Face, Halfedge, Mesh, Vertex};
-pub use validate::Invalid;
+pub use validate::{Check, Invalid};
