@@ -1956,6 +1956,8 @@ mod tests {
                 level: Level::Warn,
                 text: text.to_string(),
                 quote: None,
+                elements: Vec::new(),
+                hint: None,
                 file: file!(),
                 line: line!(),
             }],
@@ -1964,6 +1966,12 @@ mod tests {
             input: f.input.to_mesh().ok(),
             result,
             hint: None,
+            hint_id: None,
+            end: crate::grade::CaseEnd::JudgeFailed,
+            comparison: None,
+            invalid: None,
+            labelling: None,
+            pointer: None,
         }
     }
 

@@ -166,6 +166,10 @@ pub struct Cli {
     /// saved (a save during a run starts it over); Ctrl-C stops.
     #[arg(short, long)]
     pub watch: bool,
+    /// Rewrite every message the judge says (for the lab's own tests:
+    /// no verdict, hint or element may change with the words).
+    #[arg(long, hide = true)]
+    pub reword_messages: bool,
     /// The file --watch follows (for the lab's own tests).
     #[arg(long, hide = true, value_name = "PATH", requires = "watch")]
     pub watch_file: Option<PathBuf>,
@@ -493,6 +497,15 @@ fn grade_case(
         }
         let mut result = None;
         let run = match raw.exit {
+            Exit::Finished(wire::Ran::Panicked {
+                message,
+                location,
+                grew_past: Some(limit),
+            }) => Run::GrewPast {
+                limit,
+                message,
+                location,
+            },
             Exit::Finished(ran) => {
                 if let wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } = &ran {
                     result = Some(mesh.clone());
@@ -685,6 +698,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
             cli.timeout
         ));
     }
+    grade::set_rewording(cli.reword_messages);
     let root = fixtures_root(cli);
     let all = match fixture::load_all(&root) {
         Ok(all) => all,

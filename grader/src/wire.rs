@@ -98,6 +98,9 @@ pub enum Ran {
     Panicked {
         message: String,
         location: Option<String>,
+        /// The growth budget the mesh library hit, when its panic is the
+        /// one (`halfedge::mesh::element_budget_hit`).
+        grew_past: Option<u64>,
     },
     /// A sequence: each step that ran, the mesh as the last left it, and
     /// the panic that ended it early, if one did.
@@ -395,10 +398,15 @@ pub fn result_frame(ran: &Ran) -> Vec<u8> {
             }
             put_mesh(&mut out, mesh);
         }
-        Ran::Panicked { message, location } => {
+        Ran::Panicked {
+            message,
+            location,
+            grew_past,
+        } => {
             out.push(1);
             put_str(&mut out, message);
             put_str(&mut out, location.as_deref().unwrap_or(""));
+            put_u64(&mut out, grew_past.unwrap_or(0));
         }
         Ran::Sequence { steps, mesh, panic } => {
             out.push(2);
@@ -525,7 +533,12 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
                     1 => {
                         let message = r.str()?;
                         let location = Some(r.str()?).filter(|l| !l.is_empty());
-                        Ran::Panicked { message, location }
+                        let grew_past = Some(r.u64()?).filter(|&n| n > 0);
+                        Ran::Panicked {
+                            message,
+                            location,
+                            grew_past,
+                        }
                     }
                     2 => {
                         // The smallest step is 19 bytes.
@@ -773,10 +786,16 @@ mod tests {
         let panicked = result_frame(&Ran::Panicked {
             message: "boom".into(),
             location: None,
+            grew_past: Some(4000),
         });
         match &decode_frames(&panicked).unwrap()[0] {
-            Frame::Result(Ran::Panicked { message, location }) => {
+            Frame::Result(Ran::Panicked {
+                message,
+                location,
+                grew_past,
+            }) => {
                 assert_eq!((message.as_str(), location), ("boom", &None));
+                assert_eq!(*grew_past, Some(4000));
             }
             other => panic!("{other:?}"),
         }
