@@ -21,10 +21,10 @@
 //! - [`build_sandbox`]: the launcher that locks a student's build in (used
 //!   by the TA's class grading and the Gradescope bundle).
 //!
-//! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
-//! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
-//! [`child::serve`] with the student's functions). Tests run other
-//! implementations through the same protocol.
+//! Two programs: `grader` (`main.rs`, the parent and launcher; this package
+//! does not depend on the student's crate) and `grader-child` (its own
+//! package, `grader/child/`: [`child::serve`] with the student's
+//! functions). Tests run other implementations through the same protocol.
 
 #[cfg(not(unix))]
 compile_error!(
@@ -255,9 +255,11 @@ pub fn main_with(program: impl FnOnce() -> Result<runner::ChildProgram, String>)
     }
 }
 
-/// The `grader` program: the student's functions live in `grader-child`,
-/// next to this program. Run through cargo (`cargo run -p grader`), it
-/// builds that program first, so it always holds the code as it is now.
+/// The `grader` program: the student's functions live in `grader-child`
+/// (package `grader-child`), next to this program. Run through cargo
+/// (`cargo run -p grader`), it builds that program first, so it always
+/// holds the code as it is now; that build is the one that compiles the
+/// student's crate, so its output (warnings, errors) goes to the student.
 pub fn student_child_program() -> Result<runner::ChildProgram, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
     let dir = exe.parent().ok_or("this program has no folder")?;
@@ -268,22 +270,28 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
             Some(name) => name.to_string(),
         };
         let target = dir.parent().ok_or("this program's folder has no parent")?;
-        // `cargo run -p grader` compiled crates/meshedit just before (this
-        // package depends on it) and showed its warnings; cargo would replay
-        // them here, so its output is shown only if this build fails.
+        // `cargo run -p grader` did not compile crates/meshedit (this
+        // package does not depend on it): this build does, and its
+        // warnings and errors go straight to the student, once.
         let built = std::process::Command::new(cargo)
-            .args(["build", "--quiet", "-p", "grader", "--bin", "grader-child"])
+            .args([
+                "build",
+                "--quiet",
+                "-p",
+                "grader-child",
+                "--bin",
+                "grader-child",
+            ])
             .arg("--profile")
             .arg(&profile)
             .arg("--target-dir")
             .arg(target)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
             .stdin(std::process::Stdio::null())
-            .output()
+            .stdout(std::process::Stdio::null())
+            .status()
             .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if !built.status.success() {
-            use std::io::Write;
-            let _ = std::io::stderr().write_all(&built.stderr);
+        if !built.success() {
             return Err(
                 "your code does not compile: the compiler's messages are above".to_string(),
             );
@@ -291,7 +299,7 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
     }
     if !child.is_file() {
         return Err(format!(
-            "{} is missing: build it with `cargo build -p grader`",
+            "{} is missing: build it with `cargo build -p grader-child`",
             child.display()
         ));
     }
