@@ -352,14 +352,20 @@ fn run_sequence(
     (out, None)
 }
 
-/// Runs the request's operation on its mesh with `imp`.
-pub fn run_request(req: Request, imp: &Implementation) -> Ran {
+/// Runs the request's operation on its mesh with `imp`; with `record`, a
+/// subdivision is recorded (`halfedge::recording`, bounded by its default
+/// limits) and its frames sent back.
+pub fn run_request(req: Request, imp: &Implementation, record: bool) -> Ran {
     let mut mesh = req.mesh;
+    let record = record && matches!(req.op, Op::Subdivide { .. });
     halfedge::mesh::set_process_element_budget(Some(req.budget as usize));
     if req.op == Op::Sequence {
         let (steps, panic) = run_sequence(&mut mesh, &req.steps, imp);
         halfedge::mesh::set_process_element_budget(None);
         return Ran::Sequence { steps, mesh, panic };
+    }
+    if record {
+        halfedge::recording::start(halfedge::recording::Limits::default());
     }
     let ran = guarded(|| match req.op {
         Op::Flip(e) => match (imp.flip_edge)(&mut mesh, e) {
@@ -384,15 +390,27 @@ pub fn run_request(req: Request, imp: &Implementation) -> Ran {
             Answer::Unit
         }
     });
+    let recorded = record.then(|| {
+        let r = halfedge::recording::stop();
+        wire::Recorded {
+            frames: r.frames,
+            cut: r.cut,
+        }
+    });
     // Read before the reset below clears it.
     let grew_past = halfedge::mesh::element_budget_hit().map(|n| n as u64);
     halfedge::mesh::set_process_element_budget(None);
     match ran {
-        Ok(answer) => Ran::Returned { answer, mesh },
+        Ok(answer) => Ran::Returned {
+            answer,
+            mesh,
+            recorded,
+        },
         Err((message, location)) => Ran::Panicked {
             message,
             location,
             grew_past,
+            recorded,
         },
     }
 }
@@ -434,7 +452,7 @@ pub fn serve(imp: &Implementation) -> ! {
         std::process::exit(3);
     }
     drop(request);
-    let req = match Request::decode(&bytes) {
+    let (req, record) = match Request::decode_asking(&bytes) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("grader child: bad request: {e}");
@@ -446,7 +464,7 @@ pub fn serve(imp: &Implementation) -> ! {
     halfedge::logging::init(halfedge::logging::Color::Never);
     let _ = channel.write_all(&wire::started_frame());
     let _ = channel.flush();
-    let ran = run_request(req, imp);
+    let ran = run_request(req, imp, record);
     let _ = channel.write_all(&wire::result_frame(&ran));
     let _ = channel.flush();
     let _ = std::io::stderr().flush();
@@ -494,7 +512,7 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
         Ran::Panicked {
             message, location, ..
         } => return Outcome::Panicked { message, location },
-        Ran::Returned { answer, mesh } => (answer, mesh),
+        Ran::Returned { answer, mesh, .. } => (answer, mesh),
         Ran::Sequence { steps, mesh, panic } => {
             let checked = guarded(|| {
                 let invalid = Problem::find(&mesh);

@@ -405,6 +405,9 @@ pub struct CaseReport {
     /// Which pointer the first failure is about, for the labelling note.
     #[serde(skip)]
     pub pointer: Option<Pointer>,
+    /// A subdivision's step-through, when it was recorded (`--report`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames: Option<crate::frames::Frames>,
 }
 
 struct Log {
@@ -613,6 +616,7 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         invalid: log.invalid,
         labelling: None,
         pointer: log.pointer,
+        frames: None,
     }
 }
 
@@ -1726,6 +1730,18 @@ pub fn add_detail(report: &mut CaseReport, text: String) {
     log.finish(report, end);
 }
 
+/// Adds the step-through's finding to a failed case: which split broke
+/// the mesh, with the elements it names.
+pub fn note_frames(report: &mut CaseReport, frames: crate::frames::Frames) {
+    if let (false, Some(b)) = (report.passed, &frames.broken) {
+        let (mut log, end) = Log::resume(report);
+        say!(log, Detail, "{}", b.line);
+        log.about(b.elements.iter().copied());
+        log.finish(report, end);
+    }
+    report.frames = Some(frames);
+}
+
 /// Says, under a failure, that it showed only on a relabelled input, what
 /// that input looked like, and what to check (chosen from what the
 /// failure is about: [`CaseReport::pointer`], never its words).
@@ -1782,6 +1798,10 @@ impl CaseReport {
         }
         if let Some(Some(n)) = self.invalid.as_mut().map(|i| i.element.as_mut()) {
             renamed(n);
+        }
+        if let Some(b) = self.frames.as_mut().and_then(|f| f.broken.as_mut()) {
+            renamed(&mut b.vertex);
+            b.edge.iter_mut().for_each(renamed);
         }
     }
 }

@@ -1972,6 +1972,7 @@ mod tests {
             invalid: None,
             labelling: None,
             pointer: None,
+            frames: None,
         }
     }
 

@@ -36,6 +36,7 @@ pub mod build_sandbox;
 pub mod child;
 pub mod digest;
 pub mod fixture;
+pub mod frames;
 pub mod grade;
 pub mod html;
 pub mod matching;
@@ -166,6 +167,10 @@ pub struct Cli {
     /// saved (a save during a run starts it over); Ctrl-C stops.
     #[arg(short, long)]
     pub watch: bool,
+    /// Record every subdivision's splits, as --report does (to measure
+    /// what the recording costs).
+    #[arg(long, hide = true)]
+    pub record_subdivision: bool,
     /// Rewrite every message the judge says (for the lab's own tests:
     /// no verdict, hint or element may change with the words).
     #[arg(long, hide = true)]
@@ -331,6 +336,8 @@ struct Case<'a> {
     fixture: &'a Fixture,
     seed: u64,
     labellings: Vec<relabel::Labelling>,
+    /// Record a subdivision's splits for the step-through (`--report`).
+    record: bool,
 }
 
 impl<'a> Case<'a> {
@@ -344,6 +351,7 @@ impl<'a> Case<'a> {
             fixture,
             seed,
             labellings,
+            record: cli.report.is_some() || cli.record_subdivision,
         }
     }
 
@@ -492,31 +500,46 @@ fn grade_case(
             budget: budget as u64,
             mesh: l.mesh.clone(),
         };
+        let record = case.record && matches!(op, wire::Op::Subdivide { .. });
+        // A recording adds its frames (at most its byte bound, and their
+        // counts) to the result.
+        let recording = if record {
+            halfedge::recording::Limits::default().bytes + (1 << 20)
+        } else {
+            0
+        };
         let raw = runner::run_child(
             program,
             limits,
-            request.encode(),
+            request.encode_asking(record),
             timeout,
-            budget * 64 + (1 << 20),
+            budget * 64 + (1 << 20) + recording,
         )
         .map_err(|e| format!("cannot start a grading process: {e}"))?;
         if protections.is_none() {
             *protections = raw.sandbox.clone();
         }
         let mut result = None;
+        let mut recorded = None;
         let run = match raw.exit {
             Exit::Finished(wire::Ran::Panicked {
                 message,
                 location,
                 grew_past: Some(limit),
+                ..
             }) => Run::GrewPast {
                 limit,
                 message,
                 location,
             },
-            Exit::Finished(ran) => {
+            Exit::Finished(mut ran) => {
                 if let wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } = &ran {
                     result = Some(mesh.clone());
+                }
+                if let wire::Ran::Returned { recorded: r, .. }
+                | wire::Ran::Panicked { recorded: r, .. } = &mut ran
+                {
+                    recorded = r.take();
                 }
                 let mut outcome = child::analyze(op, &l.mesh, ran);
                 if let child::Outcome::Sequence { steps, .. } = &mut outcome {
@@ -554,6 +577,10 @@ fn grade_case(
         };
         report.input = Some(l.mesh.clone());
         report.result = result;
+        if let Some(recorded) = recorded {
+            let frames = frames::read(recorded, report.result.as_ref(), &l.mesh, f.tolerance);
+            grade::note_frames(&mut report, frames);
+        }
         if !report.passed {
             if i > 0 {
                 grade::note_labelling(&mut report, f, l, i, labellings.len(), seed);

@@ -228,3 +228,99 @@ fn how_a_case_ended_is_one_field() {
     assert_eq!(case["end"]["kind"], "timed-out", "{case:#}");
     assert_eq!(case["end"]["limit"], 0.3);
 }
+
+/// With `--report`, each subdivision is recorded split by split: a split
+/// that breaks the mesh is named by its frame, with its edge; the model
+/// solutions have no broken frame anywhere.
+#[test]
+fn the_step_through_names_the_split_that_broke_the_mesh() {
+    let dir = common::scratch("findings-frames");
+    let r = report(
+        "split-stale-vertex",
+        &[
+            "--case",
+            "cube-subdivide-1",
+            "--report",
+            dir.to_str().unwrap(),
+        ],
+    );
+    let case = failed(&r)
+        .next()
+        .expect("split-stale-vertex fails on the cube");
+    let frames = &case["frames"];
+    let k = frames["first_broken"].as_u64().expect("a broken frame") as usize;
+    let labels = frames["labels"].as_array().unwrap();
+    assert!(k >= 1 && k < labels.len(), "{frames:#}");
+    assert_eq!(labels[0], "before split 1");
+    assert_eq!(labels.last().unwrap(), "after loop_subdivide");
+    assert_eq!(frames["cut"], Value::Null);
+    let broken = &frames["broken"];
+    assert_eq!(broken["kind"], "invalid");
+    assert_eq!(broken["split"].as_u64(), Some(k as u64));
+    assert_eq!(broken["edge"]["element"]["kind"], "edge");
+    // The detail line under the failure names the split and its edge, as
+    // the student's mesh numbered it.
+    let ordinal = match k {
+        1 => "1st".to_string(),
+        2 => "2nd".to_string(),
+        3 => "3rd".to_string(),
+        n => format!("{n}th"),
+    };
+    let edge = broken["edge"]["labelled"]["id"]
+        .as_u64()
+        .or(broken["edge"]["element"]["id"].as_u64())
+        .unwrap();
+    let line = case["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| {
+            e["text"].as_str().unwrap().starts_with(&format!(
+                "your loop_subdivide's {ordinal} split (edge e{edge} "
+            ))
+        })
+        .unwrap_or_else(|| panic!("no line for split {k}: {case:#}"));
+    assert!(
+        line["text"]
+            .as_str()
+            .unwrap()
+            .contains(" left an invalid mesh: "),
+        "{line:#}"
+    );
+    assert!(!line["elements"].as_array().unwrap().is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    // A split vertex away from its midpoint is named too, even where the
+    // subdivision's moves hide it in the end.
+    let r = report(
+        "split-not-midpoint",
+        &["--case", "cube-subdivide-1", "--record-subdivision"],
+    );
+    let frames = &r["cases"][0]["frames"];
+    assert_eq!(frames["first_broken"], 1, "{frames:#}");
+    assert_eq!(frames["broken"]["kind"], "off-midpoint");
+
+    for name in ["reference", "alt-order", "alt-reverse"] {
+        let r = report(name, &["--stage", "subdivide", "--record-subdivision"]);
+        let recorded = r["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| {
+                c["frames"]["labels"]
+                    .as_array()
+                    .is_some_and(|l| l.len() > 1)
+            })
+            .count();
+        assert!(recorded > 10, "{name}: {recorded} cases recorded");
+        for case in r["cases"].as_array().unwrap() {
+            let frames = &case["frames"];
+            assert_eq!(
+                (&frames["first_broken"], &frames["unjudged"]),
+                (&Value::Null, &Value::Null),
+                "{name}, {}: {frames:#}",
+                case["name"]
+            );
+        }
+    }
+}

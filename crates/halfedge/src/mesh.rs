@@ -216,7 +216,7 @@ impl Mesh {
     #[inline]
     #[track_caller]
     pub fn new_vertex(&mut self, pos: DVec3) -> VertexId {
-        self.charge_one();
+        self.charge_vertex();
         self.vertices.push(Vertex {
             pos,
             new_pos: DVec3::ZERO,
@@ -381,3 +381,15 @@ arena_index!(VertexId, Vertex, vertices, "vertex");
 arena_index!(EdgeId, Edge, edges, "edge");
 arena_index!(FaceId, Face, faces, "face");
 arena_index!(HalfedgeId, Halfedge, halfedges, "halfedge");
+
+impl Mesh {
+    /// [`Mesh::charge_one`] for a vertex, which also lets a running
+    /// recording keep the mesh as it is before the vertex is added (see
+    /// [`crate::recording`]).
+    #[inline]
+    #[track_caller]
+    fn charge_vertex(&self) {
+        crate::recording::before_vertex(self);
+        self.charge_one();
+    }
+}
