@@ -15,7 +15,8 @@
 //! - [`child`]: the child's side ([`child::serve`]) and the parent's
 //!   reading of its result ([`child::analyze`]).
 //! - [`matching`]: order-independent comparison of vertices and edges.
-//! - [`grade`]: the verdict and messages for one case.
+//! - [`grade`]: the verdict and messages for one case, and its findings
+//!   as data; [`frames`]: the step-through of a recorded subdivision.
 //! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
 //!   anything the student's code said is shown (as data, under `| `).
 //! - [`build_sandbox`]: the launcher that locks a student's build in (used
