@@ -172,8 +172,9 @@ impl Build {
         ]
     }
 
-    /// Cargo's command line: the grader (with the student's crate), from
-    /// the vendored sources, without the network or a new lock file.
+    /// Cargo's command line: the grader and its child program (with the
+    /// student's crate), from the vendored sources, without the network or
+    /// a new lock file.
     pub fn cargo_args(&self) -> Vec<OsString> {
         // A JSON string is a valid TOML basic string.
         let vendor = serde_json::to_string(&self.vendor.to_string_lossy()).expect("JSON");
@@ -185,6 +186,8 @@ impl Build {
             "never",
             "-p",
             "grader",
+            "-p",
+            "grader-child",
             "--config",
             "source.crates-io.replace-with=\"meshlab-vendored\"",
             "--config",

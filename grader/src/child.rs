@@ -99,7 +99,7 @@ pub enum Outcome {
         before: Counts,
         after: Counts,
         /// The first thing wrong with the result's links or positions.
-        invalid: Option<String>,
+        invalid: Option<Problem>,
         mesh: Option<Box<MeshResult>>,
         /// Every record, positions to the bit, is as it was sent.
         #[serde(default)]
@@ -119,9 +119,81 @@ pub enum Outcome {
         panic: Option<(String, Option<String>)>,
         before: Counts,
         after: Counts,
-        invalid: Option<String>,
+        invalid: Option<Problem>,
         mesh: Option<Box<MeshResult>>,
     },
+}
+
+/// The first thing wrong with a result's links or positions, as data
+/// (its message is [`Problem`]'s `Display`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Problem {
+    /// `validate()` failed: the check, the element and its message (the
+    /// message as the parent read it, see [`crate::grade::words`]).
+    Invalid {
+        #[serde(skip)]
+        invalid: Option<halfedge::Invalid>,
+        message: String,
+    },
+    /// A vertex whose position is not a finite number.
+    NotFinite { vertex: u32, position: [f64; 3] },
+    /// Walking the mesh panicked (the library's message).
+    Unwalkable { message: String },
+}
+
+impl Problem {
+    /// `validate()`'s finding, its message as the grader says it.
+    pub fn of(invalid: halfedge::Invalid) -> Problem {
+        let mut invalid = invalid;
+        invalid.message = crate::grade::words(invalid.message);
+        Problem::Invalid {
+            message: invalid.to_string(),
+            invalid: Some(invalid),
+        }
+    }
+
+    /// The check of `validate()` that failed, if it was one.
+    pub fn check(&self) -> Option<halfedge::Check> {
+        match self {
+            Problem::Invalid { invalid, .. } => invalid.as_ref().map(|i| i.check),
+            _ => None,
+        }
+    }
+
+    /// The element at fault, in the numbering of the mesh checked.
+    pub fn element(&self) -> Option<halfedge::Element> {
+        match self {
+            Problem::Invalid { invalid, .. } => invalid.as_ref().map(|i| i.element),
+            Problem::NotFinite { vertex, .. } => Some(VertexId(*vertex).into()),
+            Problem::Unwalkable { .. } => None,
+        }
+    }
+
+    /// The first problem with `mesh`: a non-finite position, else
+    /// `validate()`'s. Guard the call: it walks what the student made.
+    fn find(mesh: &Mesh) -> Option<Problem> {
+        non_finite(mesh).or_else(|| mesh.validate().err().map(Problem::of))
+    }
+}
+
+impl std::fmt::Display for Problem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Problem::Invalid { message, .. } => f.write_str(message),
+            Problem::NotFinite {
+                vertex,
+                position: p,
+            } => write!(
+                f,
+                "vertex v{vertex} is at ({}, {}, {}): a position must be a finite number",
+                p[0], p[1], p[2]
+            ),
+            Problem::Unwalkable { message } => {
+                write!(f, "the mesh could not be walked: {message}")
+            }
+        }
+    }
 }
 
 thread_local! {
@@ -280,14 +352,20 @@ fn run_sequence(
     (out, None)
 }
 
-/// Runs the request's operation on its mesh with `imp`.
-pub fn run_request(req: Request, imp: &Implementation) -> Ran {
+/// Runs the request's operation on its mesh with `imp`; with `record`, a
+/// subdivision is recorded (`halfedge::recording`, bounded by its default
+/// limits) and its frames sent back.
+pub fn run_request(req: Request, imp: &Implementation, record: bool) -> Ran {
     let mut mesh = req.mesh;
+    let record = record && matches!(req.op, Op::Subdivide { .. });
     halfedge::mesh::set_process_element_budget(Some(req.budget as usize));
     if req.op == Op::Sequence {
         let (steps, panic) = run_sequence(&mut mesh, &req.steps, imp);
         halfedge::mesh::set_process_element_budget(None);
         return Ran::Sequence { steps, mesh, panic };
+    }
+    if record {
+        halfedge::recording::start(halfedge::recording::Limits::default());
     }
     let ran = guarded(|| match req.op {
         Op::Flip(e) => match (imp.flip_edge)(&mut mesh, e) {
@@ -312,10 +390,28 @@ pub fn run_request(req: Request, imp: &Implementation) -> Ran {
             Answer::Unit
         }
     });
+    let recorded = record.then(|| {
+        let r = halfedge::recording::stop();
+        wire::Recorded {
+            frames: r.frames,
+            cut: r.cut,
+        }
+    });
+    // Read before the reset below clears it.
+    let grew_past = halfedge::mesh::element_budget_hit().map(|n| n as u64);
     halfedge::mesh::set_process_element_budget(None);
     match ran {
-        Ok(answer) => Ran::Returned { answer, mesh },
-        Err((message, location)) => Ran::Panicked { message, location },
+        Ok(answer) => Ran::Returned {
+            answer,
+            mesh,
+            recorded,
+        },
+        Err((message, location)) => Ran::Panicked {
+            message,
+            location,
+            grew_past,
+            recorded,
+        },
     }
 }
 
@@ -356,7 +452,7 @@ pub fn serve(imp: &Implementation) -> ! {
         std::process::exit(3);
     }
     drop(request);
-    let req = match Request::decode(&bytes) {
+    let (req, record) = match Request::decode_asking(&bytes) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("grader child: bad request: {e}");
@@ -369,7 +465,7 @@ pub fn serve(imp: &Implementation) -> ! {
     let _ = channel.write_all(&wire::started_frame());
     let _ = channel.flush();
     let cpu = crate::scaling::process_cpu_time();
-    let ran = run_request(req, imp);
+    let ran = run_request(req, imp, record);
     let cpu = crate::scaling::process_cpu_time().saturating_sub(cpu);
     let _ = channel.write_all(&wire::cpu_frame(cpu));
     let _ = channel.write_all(&wire::result_frame(&ran));
@@ -378,19 +474,18 @@ pub fn serve(imp: &Implementation) -> ! {
     std::process::exit(0)
 }
 
-/// "vertex v7 is at (NaN, 0, 1)" for the first vertex whose position is
-/// not a finite number.
-fn non_finite(mesh: &Mesh) -> Option<String> {
+/// The first vertex whose position is not a finite number ("vertex v7 is
+/// at (NaN, 0, 1)").
+fn non_finite(mesh: &Mesh) -> Option<Problem> {
     let (vertices, ..) = mesh.records();
     let (i, v) = vertices
         .iter()
         .enumerate()
         .find(|(_, v)| !v.pos.is_finite())?;
-    let p = v.pos;
-    Some(format!(
-        "vertex v{i} is at ({}, {}, {}): a position must be a finite number",
-        p.x, p.y, p.z
-    ))
+    Some(Problem::NotFinite {
+        vertex: i as u32,
+        position: v.pos.to_array(),
+    })
 }
 
 fn same_records(a: &Mesh, b: &Mesh) -> bool {
@@ -417,12 +512,13 @@ fn same_records(a: &Mesh, b: &Mesh) -> bool {
 /// operation as sent (in the mesh's own ids).
 pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
     let (answer, mesh) = match ran {
-        Ran::Panicked { message, location } => return Outcome::Panicked { message, location },
-        Ran::Returned { answer, mesh } => (answer, mesh),
+        Ran::Panicked {
+            message, location, ..
+        } => return Outcome::Panicked { message, location },
+        Ran::Returned { answer, mesh, .. } => (answer, mesh),
         Ran::Sequence { steps, mesh, panic } => {
             let checked = guarded(|| {
-                let invalid =
-                    non_finite(&mesh).or_else(|| mesh.validate().err().map(|e| e.to_string()));
+                let invalid = Problem::find(&mesh);
                 let result = invalid.is_none().then(|| MeshResult {
                     positions: mesh.positions().iter().map(|p| p.to_array()).collect(),
                     edges: mesh.edge_list(),
@@ -432,12 +528,8 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
                 });
                 (invalid, result)
             });
-            let (invalid, result) = checked.unwrap_or_else(|(message, _)| {
-                (
-                    Some(format!("the mesh could not be walked: {message}")),
-                    None,
-                )
-            });
+            let (invalid, result) = checked
+                .unwrap_or_else(|(message, _)| (Some(Problem::Unwalkable { message }), None));
             return Outcome::Sequence {
                 steps,
                 panic,
@@ -467,18 +559,14 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
     let unchanged = same_records(input, &mesh);
     // The checks walk a mesh the student's code built: guard them all the same.
     let checked = guarded(|| {
-        let invalid = non_finite(&mesh).or_else(|| mesh.validate().err().map(|e| e.to_string()));
+        let invalid = Problem::find(&mesh);
         let result = invalid
             .is_none()
             .then(|| read_result(op, input, &mesh, &returned));
         (invalid, result)
     });
-    let (invalid, result) = checked.unwrap_or_else(|(message, _)| {
-        (
-            Some(format!("the mesh could not be walked: {message}")),
-            None,
-        )
-    });
+    let (invalid, result) =
+        checked.unwrap_or_else(|(message, _)| (Some(Problem::Unwalkable { message }), None));
     Outcome::Finished {
         returned,
         before: Counts::of(input),

@@ -289,6 +289,16 @@ pub struct Mistake {
     pub invalid: Option<String>,
 }
 
+impl Mistake {
+    /// The check of `validate()` the mistake fails, read from the message
+    /// the fixture stores (the fixture format's way of naming it).
+    pub fn invalid_check(&self) -> Option<halfedge::Check> {
+        self.invalid
+            .as_deref()
+            .and_then(halfedge::Check::from_message)
+    }
+}
+
 /// Why fixtures could not be loaded: always names the file.
 #[derive(Debug)]
 pub struct FixtureError {

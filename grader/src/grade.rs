@@ -1,14 +1,333 @@
 //! Judging one case: turns the child's report into the lab's messages, in
 //! the lab's order, with details and a hint under a failure.
+//!
+//! Beside the words, a case's report carries its findings as data, for
+//! every renderer (text, JSON, Gradescope, HTML) and for later notes: how
+//! the case ended ([`CaseEnd`]), the elements each line is about
+//! ([`Named`]), the judge's comparison ([`Comparison`]), the broken link
+//! `validate()` found ([`InvalidFact`]), the labelling it failed on
+//! ([`LabellingFacts`]) and the mistake recognised ([`Hint`], an id whose
+//! words are rendered from it). Nothing here decides anything from a
+//! message's words: [`set_rewording`] rewrites every one, and the tests
+//! check that no verdict, hint or element moves.
 
-use serde::Serialize;
+use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
+use halfedge::{Check, EdgeId, Element, FaceId, VertexId};
+use serde::{Serialize, Serializer};
+
+use crate::child::{Counts, MeshResult, Outcome, Problem, Returned, SplitIds};
 use crate::fixture::{Fixture, Group, Operation, Returns, Stage};
 use crate::matching::{self, VertexMatch};
 use crate::quoted::Quoted;
 use crate::runner::{ChildReport, Run};
 use crate::wire::{StepAnswer, StepRan};
+
+/// Whether every message is rewritten (see [`set_rewording`]).
+static REWORDING: AtomicBool = AtomicBool::new(false);
+
+/// For the tests that prove no decision reads a message: from now on, in
+/// this process, every line the judge says and every `validate()` message
+/// the parent reads is rewritten ([`words`]). Off in normal use.
+pub fn set_rewording(on: bool) {
+    REWORDING.store(on, Ordering::Relaxed);
+}
+
+/// A message as the grader says it: unchanged, or rewritten when
+/// [`set_rewording`] is on (upper case behind a marker, so any code that
+/// still matched words would stop matching).
+pub fn words(text: String) -> String {
+    if REWORDING.load(Ordering::Relaxed) {
+        format!("REWORDED: {}", text.to_uppercase())
+    } else {
+        text
+    }
+}
+
+/// Serialises an [`Element`] as `{"kind": "vertex", "id": 3}`.
+fn element_json<S: Serializer>(e: &Element, s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let (kind, id) = element_parts(*e);
+    let mut st = s.serialize_struct("Element", 2)?;
+    st.serialize_field("kind", kind)?;
+    st.serialize_field("id", &id)?;
+    st.end()
+}
+
+fn opt_element_json<S: Serializer>(e: &Option<Element>, s: S) -> Result<S::Ok, S::Error> {
+    match e {
+        Some(e) => element_json(e, s),
+        None => s.serialize_none(),
+    }
+}
+
+/// An element's kind (`vertex`, `edge`, `face`, `halfedge`) and index.
+pub fn element_parts(e: Element) -> (&'static str, u32) {
+    match e {
+        Element::Vertex(v) => ("vertex", v.0),
+        Element::Edge(x) => ("edge", x.0),
+        Element::Face(f) => ("face", f.0),
+        Element::Halfedge(h) => ("halfedge", h.0),
+    }
+}
+
+/// An element a line of the report is about, in both numberings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Named {
+    /// In the case's numbering: the fixture's input ids (vertex `i` is
+    /// input vertex `i`), and, for an element the student's code made,
+    /// the id it got (labellings permute only the input's elements).
+    #[serde(serialize_with = "element_json")]
+    pub element: Element,
+    /// In the labelling's numbering, the ids the message uses, when the
+    /// case failed on a relabelled input (else the two are the same).
+    #[serde(serialize_with = "opt_element_json")]
+    pub labelled: Option<Element>,
+}
+
+impl Named {
+    /// An element as the child saw it (in the numbering of the mesh sent);
+    /// `lib.rs` adds the case's numbering for a relabelled input.
+    pub fn seen(element: impl Into<Element>) -> Named {
+        Named {
+            element: element.into(),
+            labelled: None,
+        }
+    }
+}
+
+/// How a case ended, as the report says it: the one type every renderer
+/// reads. Converted from the runner's and the child's statuses
+/// ([`Run`], [`Outcome`]) by [`CaseEnd::of`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum CaseEnd {
+    /// The function returned (a sequence: every step that ran returned).
+    Returned {
+        returned: Option<Returned>,
+    },
+    /// It panicked; `grew_past` when the mesh library's growth budget
+    /// raised the panic.
+    Panicked {
+        #[serde(skip_serializing_if = "Option::is_none")]
+        grew_past: Option<u64>,
+    },
+    /// Still running at the limit (seconds).
+    TimedOut {
+        limit: f64,
+    },
+    /// The program never reached the function within the limit (seconds).
+    StuckBeforeCall {
+        limit: f64,
+    },
+    StackOverflow,
+    /// Over the memory cap (bytes).
+    OutOfMemory {
+        cap: u64,
+    },
+    Signal {
+        signal: i32,
+    },
+    Exited {
+        code: Option<i32>,
+    },
+    /// The result channel held something that is not a result.
+    Garbled,
+    /// The result was this many bytes, far more than any answer.
+    TooLarge {
+        bytes: usize,
+    },
+    /// Judging the result panicked: the grader's bug.
+    JudgeFailed,
+}
+
+impl CaseEnd {
+    /// The report's reading of a run.
+    pub fn of(run: &Run) -> CaseEnd {
+        match run {
+            Run::Done(Outcome::Finished { returned, .. }) => CaseEnd::Returned {
+                returned: Some(returned.clone()),
+            },
+            Run::Done(Outcome::Sequence { panic: None, .. }) => {
+                CaseEnd::Returned { returned: None }
+            }
+            Run::Done(Outcome::Sequence { panic: Some(_), .. })
+            | Run::Done(Outcome::Panicked { .. }) => CaseEnd::Panicked { grew_past: None },
+            Run::GrewPast { limit, .. } => CaseEnd::Panicked {
+                grew_past: Some(*limit),
+            },
+            Run::TimedOut(d) => CaseEnd::TimedOut {
+                limit: d.as_secs_f64(),
+            },
+            Run::StuckBeforeCall(d) => CaseEnd::StuckBeforeCall {
+                limit: d.as_secs_f64(),
+            },
+            Run::StackOverflow => CaseEnd::StackOverflow,
+            Run::OutOfMemory(cap) => CaseEnd::OutOfMemory { cap: *cap },
+            Run::Signal(signal) => CaseEnd::Signal { signal: *signal },
+            Run::Exited(code) => CaseEnd::Exited { code: *code },
+            Run::Garbled(_) => CaseEnd::Garbled,
+            Run::TooLarge(bytes) => CaseEnd::TooLarge { bytes: *bytes },
+            Run::JudgeFailed(_) => CaseEnd::JudgeFailed,
+        }
+    }
+
+    /// The case ran out of time, or never reached the call.
+    pub fn timed_out(&self) -> bool {
+        matches!(
+            self,
+            CaseEnd::TimedOut { .. } | CaseEnd::StuckBeforeCall { .. }
+        )
+    }
+}
+
+/// The judge's comparison of the student's mesh with the expected one.
+/// "Yours" are ids of the mesh the function left (the labelling's
+/// numbering, new elements appended); "expected" are indices of the
+/// fixture's expected positions.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Comparison {
+    /// `matched[i]`: the expected vertex your vertex `i` matched, if any.
+    pub matched: Vec<Option<usize>>,
+    /// Expected vertices no vertex of yours matched.
+    pub missing_vertices: Vec<usize>,
+    /// Your vertices that matched no expected one.
+    pub extra_vertices: Vec<usize>,
+    /// Expected edges (expected indices) you lack; `None` when the edges
+    /// were not compared (the vertices were wrong first).
+    pub missing_edges: Option<Vec<[usize; 2]>>,
+    /// Your edges (your ids) the expected result lacks.
+    pub extra_edges: Option<Vec<[usize; 2]>>,
+}
+
+/// The broken link `validate()` (or the grader's own checks) found in the
+/// result, as data.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct InvalidFact {
+    /// `validate()`'s check, by its key (`None`: a non-finite position or
+    /// a mesh that could not be walked).
+    #[serde(serialize_with = "check_json")]
+    pub check: Option<Check>,
+    pub element: Option<Named>,
+}
+
+fn check_json<S: Serializer>(c: &Option<Check>, s: S) -> Result<S::Ok, S::Error> {
+    match c {
+        Some(c) => s.serialize_str(c.key()),
+        None => s.serialize_none(),
+    }
+}
+
+/// The labelling a case failed on (never the mesh as built).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LabellingFacts {
+    /// 1 to `of`: which relabelled input.
+    pub index: usize,
+    pub of: usize,
+    pub seed: u64,
+    #[serde(serialize_with = "kind_json")]
+    pub kind: crate::relabel::Kind,
+    /// `vertices[i]`: the id input vertex `i` has in the labelling; the
+    /// same for edges, faces and halfedges.
+    pub permutation: crate::relabel::Permutation,
+}
+
+fn kind_json<S: Serializer>(k: &crate::relabel::Kind, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(k.key())
+}
+
+/// A mistake the grader recognised: an id, whose words [`Hint::text`]
+/// renders.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "from", content = "id", rename_all = "lowercase")]
+pub enum Hint {
+    /// A known mistake of the fixture (`expected.mistakes[].id`).
+    Catalogue(String),
+    /// One of the grader's own.
+    Grader(GraderHint),
+}
+
+/// The grader's own hints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GraderHint {
+    /// The result was far too large.
+    RunawayResult,
+    /// The mesh library's growth budget stopped the function.
+    GrewPast,
+    NoVertexAdded,
+    TooManyVertices,
+    TooFewVertices,
+    /// Failed only on a relabelled input, with `mesh[e].halfedge` in the hole.
+    LabellingHoleSide,
+    /// Subdivision failed only on a relabelled input.
+    LabellingSubdivide,
+    /// Failed only on a relabelled input, about a vertex's halfedge.
+    LabellingVertexPointer,
+    /// Failed only on a relabelled input, about a face's halfedge.
+    LabellingFacePointer,
+    /// Failed only on a relabelled input, otherwise.
+    LabellingAnyPointer,
+}
+
+impl Hint {
+    /// The hint's words for case `f`.
+    pub fn text(&self, f: &Fixture) -> String {
+        let function = f.operation.stage().function();
+        match self {
+            Hint::Catalogue(id) => f
+                .expected
+                .mistakes
+                .iter()
+                .find(|m| m.id == *id)
+                .map_or_else(|| id.clone(), |m| m.hint.clone()),
+            Hint::Grader(g) => match g {
+                GraderHint::RunawayResult => "are edges created while splitting split again? Loop over the edge ids taken before splitting.".to_string(),
+                GraderHint::GrewPast => "are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).".to_string(),
+                GraderHint::NoVertexAdded => "no vertex was added: does loop_subdivide call split_edge on every old edge?".to_string(),
+                GraderHint::TooManyVertices => "more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.".to_string(),
+                GraderHint::TooFewVertices => "fewer vertices than one per old edge: was every old edge split exactly once?".to_string(),
+                GraderHint::LabellingHoleSide => format!(
+                    "does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
+                ),
+                GraderHint::LabellingSubdivide => "your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
+                GraderHint::LabellingVertexPointer => format!(
+                    "does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
+                ),
+                GraderHint::LabellingFacePointer => format!(
+                    "does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
+                ),
+                GraderHint::LabellingAnyPointer => format!(
+                    "does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
+                ),
+            },
+        }
+    }
+}
+
+/// Which pointer a failure is about, as a fact for the note on a
+/// relabelled input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pointer {
+    /// A vertex's `halfedge`.
+    Vertex,
+    /// A face's `halfedge`, or a halfedge's `face`.
+    Face,
+}
+
+/// The pointer a failed check of `validate()` is about, if one of the
+/// vertex's or face's.
+fn pointer_of(check: Check) -> Option<Pointer> {
+    match check {
+        Check::VertexHalfedgeUnset | Check::VertexHalfedgeElsewhere | Check::VertexNotOneFan => {
+            Some(Pointer::Vertex)
+        }
+        Check::FaceHalfedgeUnset | Check::FaceHalfedgeElsewhere | Check::HalfedgeNotItsFace => {
+            Some(Pointer::Face)
+        }
+        _ => None,
+    }
+}
 
 /// How a line is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -31,6 +350,12 @@ pub struct Entry {
     /// after `text` when it fits on the line, else under it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub quote: Option<Quoted>,
+    /// The elements the line names, as data (see [`Named`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub elements: Vec<Named>,
+    /// On a `hint:` line: the hint it gives, as an id.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hint: Option<Hint>,
     #[serde(skip)]
     pub file: &'static str,
     #[serde(skip)]
@@ -63,21 +388,125 @@ pub struct CaseReport {
     /// them): the summary repeats it where students read.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub hint: Option<String>,
+    /// The first hint as an id: the mistake recognised.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hint_id: Option<Hint>,
+    /// How the case ended (on the labelling reported).
+    pub end: CaseEnd,
+    /// The judge's comparison with the expected result, when it got that far.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub comparison: Option<Comparison>,
+    /// The broken link in the result, when it did not validate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub invalid: Option<InvalidFact>,
+    /// The relabelled input the case failed on, when it failed only there.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub labelling: Option<LabellingFacts>,
+    /// Which pointer the first failure is about, for the labelling note.
+    #[serde(skip)]
+    pub pointer: Option<Pointer>,
+    /// A subdivision's step-through, when it was recorded (`--report`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames: Option<crate::frames::Frames>,
 }
 
 struct Log {
     entries: Vec<Entry>,
     passed: bool,
     hint: Option<String>,
+    hint_id: Option<Hint>,
+    comparison: Option<Comparison>,
+    invalid: Option<InvalidFact>,
+    pointer: Option<Pointer>,
+}
+
+impl Log {
+    fn new() -> Log {
+        Log {
+            entries: Vec::new(),
+            passed: true,
+            hint: None,
+            hint_id: None,
+            comparison: None,
+            invalid: None,
+            pointer: None,
+        }
+    }
+
+    /// The log that adds lines to `report`, above its "end testing" line
+    /// (put back by [`Log::finish`]).
+    fn resume(report: &mut CaseReport) -> (Log, Option<Entry>) {
+        let end = report.entries.pop();
+        let log = Log {
+            entries: std::mem::take(&mut report.entries),
+            passed: report.passed,
+            hint: report.hint.take(),
+            hint_id: report.hint_id.take(),
+            comparison: None,
+            invalid: None,
+            pointer: None,
+        };
+        (log, end)
+    }
+
+    fn finish(self, report: &mut CaseReport, end: Option<Entry>) {
+        report.entries = self.entries;
+        report.entries.extend(end);
+        report.passed = self.passed;
+        report.hint = self.hint;
+        report.hint_id = self.hint_id;
+    }
+
+    /// Names the elements the last line is about.
+    fn about(&mut self, elements: impl IntoIterator<Item = Element>) {
+        if let Some(e) = self.entries.last_mut() {
+            e.elements.extend(elements.into_iter().map(Named::seen));
+        }
+    }
+
+    /// Records the broken link as data on the line just said (the first
+    /// warning's, as the case stops there).
+    fn invalid_found(&mut self, problem: &Problem) {
+        self.about(problem.element());
+        self.first_about(problem.check().and_then(pointer_of));
+        self.invalid = Some(InvalidFact {
+            check: problem.check(),
+            element: problem.element().map(Named::seen),
+        });
+    }
+
+    /// Says the first failure is about `pointer`, if it is the first.
+    fn first_about(&mut self, pointer: Option<Pointer>) {
+        let warns = self
+            .entries
+            .iter()
+            .filter(|e| e.level == Level::Warn)
+            .count();
+        if warns == 1 && self.pointer.is_none() {
+            self.pointer = pointer;
+        }
+    }
+
+    /// A detail line `hint: ...` for `hint`, and the case's hint if it had
+    /// none yet.
+    fn hint(&mut self, f: &Fixture, hint: Hint, file: &'static str, line: u32) {
+        let text = hint.text(f);
+        self.push(Level::Detail, format!("hint: {text}"), None, file, line);
+        if let Some(e) = self.entries.last_mut() {
+            e.hint = Some(hint.clone());
+        }
+        if self.hint.is_none() {
+            self.hint = Some(text);
+            self.hint_id = Some(hint);
+        }
+    }
 }
 
 /// A detail line `hint: ...`, and the case's hint if it had none yet.
 macro_rules! hint {
-    ($log:expr, $($arg:tt)*) => {{
-        let text = format!($($arg)*);
-        $log.push(Level::Detail, format!("hint: {text}"), None, file!(), line!());
-        $log.hint.get_or_insert(text);
-    }};
+    ($log:expr, $f:expr, $hint:expr) => {
+        $log.hint($f, $hint, file!(), line!())
+    };
 }
 
 macro_rules! say {
@@ -108,8 +537,10 @@ impl Log {
         }
         self.entries.push(Entry {
             level,
-            text,
+            text: words(text),
             quote,
+            elements: Vec::new(),
+            hint: None,
             file,
             line,
         });
@@ -162,11 +593,7 @@ fn activity(stage: Stage) -> &'static str {
 /// Judges a case from its child's report.
 pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
     let stage = f.operation.stage();
-    let mut log = Log {
-        entries: Vec::new(),
-        passed: true,
-        hint: None,
-    };
+    let mut log = Log::new();
     let what = subject(f);
     say!(log, Info, "start testing {} for {what}", activity(stage));
     judge_run(f, &child.run, &mut log);
@@ -179,10 +606,17 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         passed: log.passed,
         entries: log.entries,
         output: Quoted::new(child.output.clone()),
-        timed_out: matches!(child.run, Run::TimedOut(_) | Run::StuckBeforeCall(_)),
+        timed_out: CaseEnd::of(&child.run).timed_out(),
         input: None,
         result: None,
         hint: log.hint,
+        hint_id: log.hint_id,
+        end: CaseEnd::of(&child.run),
+        comparison: log.comparison,
+        invalid: log.invalid,
+        labelling: None,
+        pointer: log.pointer,
+        frames: None,
     }
 }
 
@@ -256,7 +690,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 "{function} returned a mesh far larger than any right answer ({} MiB of data)",
                 bytes >> 20
             );
-            hint!(log, "are edges created while splitting split again? Loop over the edge ids taken before splitting.");
+            hint!(log, f, Hint::Grader(GraderHint::RunawayResult));
         }
         Run::JudgeFailed(message) => {
             quote!(
@@ -266,15 +700,18 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 "the grader could not judge this result: tell a TA, with your code; the grader's message:"
             );
         }
-        Run::Done(Outcome::Panicked { message, location }) if must_panic => {
-            if message.starts_with("not yet implemented") {
+        Run::Done(Outcome::Panicked { message, location })
+        | Run::GrewPast {
+            message, location, ..
+        } if must_panic => {
+            if is_stub(message) {
                 quote!(log, Warn, message.as_str(), "{function} panicked:");
                 say!(
                     log,
                     Detail,
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
-            } else if message.to_lowercase().contains("triangle") {
+            } else if !matches!(run, Run::GrewPast { .. }) && names_a_non_triangle(message) {
                 quote!(
                     log,
                     Info,
@@ -294,19 +731,22 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 say!(log, Detail, "check first: mesh.first_non_triangle() finds such a face; name it in the panic message");
             }
         }
-        Run::Done(Outcome::Panicked { message, location }) => {
+        Run::Done(Outcome::Panicked { message, location })
+        | Run::GrewPast {
+            message, location, ..
+        } => {
             quote!(log, Warn, message.as_str(), "{function} panicked:");
             if let Some(loc) = location {
                 quote!(log, Detail, loc.as_str(), "at");
             }
-            if message.starts_with("not yet implemented") {
+            if matches!(run, Run::GrewPast { .. }) {
+                hint!(log, f, Hint::Grader(GraderHint::GrewPast));
+            } else if is_stub(message) {
                 say!(
                     log,
                     Detail,
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
-            } else if message.starts_with("the mesh grew past") {
-                hint!(log, "are edges created while splitting split again? Loop over the edge ids taken before splitting (mesh.edge_ids() is a snapshot).");
             }
         }
         Run::Done(Outcome::Finished { .. }) if must_panic => {
@@ -324,7 +764,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             steps,
             panic.as_ref(),
             (*before, *after),
-            invalid.as_deref(),
+            invalid.as_ref(),
             mesh.as_deref(),
             log,
         ),
@@ -340,11 +780,25 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             returned,
             (*before, *after),
             *unchanged,
-            invalid.as_deref(),
+            invalid.as_ref(),
             mesh.as_deref(),
             log,
         ),
     }
+}
+
+/// Whether a panic is `todo!()`'s: std's own words for the stubs, the
+/// one panic the grader tells by its message (std gives no other sign).
+fn is_stub(message: &str) -> bool {
+    message.starts_with("not yet implemented")
+}
+
+/// Whether the student's panic message says a face is not a triangle, as
+/// the contract asks of `loop_subdivide` on a mesh with another face: the
+/// student's words are what is judged here (like a position), never a
+/// message of the grader or the mesh library.
+fn names_a_non_triangle(student_message: &str) -> bool {
+    student_message.to_lowercase().contains("triangle")
 }
 
 fn signal_name(sig: i32) -> String {
@@ -368,7 +822,7 @@ fn judge_finished(
     returned: &Returned,
     (before, after): (Counts, Counts),
     unchanged: bool,
-    invalid: Option<&str>,
+    invalid: Option<&Problem>,
     mesh: Option<&MeshResult>,
     log: &mut Log,
 ) {
@@ -401,15 +855,16 @@ fn judge_finished(
             Warn,
             "the result of {result_of} is a invalid mesh: {problem}"
         );
-        // A known mistake that breaks the mesh the same way, named.
-        let message = problem.rsplit_once(" (").map_or(problem, |(m, _)| m);
+        log.invalid_found(problem);
+        // A known mistake that breaks the mesh the same way (the same
+        // check of validate()), named.
         if let Some(m) = f
             .expected
             .mistakes
             .iter()
-            .find(|m| m.invalid.as_deref() == Some(message))
+            .find(|m| m.invalid_check().is_some() && m.invalid_check() == problem.check())
         {
-            hint!(log, "{}", m.hint);
+            hint!(log, f, Hint::Catalogue(m.id.clone()));
         }
         return;
     }
@@ -439,7 +894,7 @@ fn judge_sequence(
     steps: &[StepRan],
     panic: Option<&(String, Option<String>)>,
     (before, after): (Counts, Counts),
-    invalid: Option<&str>,
+    invalid: Option<&Problem>,
     mesh: Option<&MeshResult>,
     log: &mut Log,
 ) {
@@ -581,8 +1036,11 @@ fn judge_sequence(
                 log,
                 Warn,
                 "{at} left an invalid mesh: {}",
-                invalid.unwrap_or("validate() failed")
+                invalid.map_or("validate() failed".to_string(), Problem::to_string)
             );
+            if let Some(problem) = invalid {
+                log.invalid_found(problem);
+            }
             say!(log, Detail, "it passes alone? Then it relies on something the earlier operations changed: a vertex, edge or face pointing at a halfedge that moved");
             return;
         }
@@ -707,6 +1165,7 @@ fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Lo
         }
         (Some(Returns::Edge { .. }), Returned::Edge { given, got }) if given != got => {
             say!(log, Warn, "flip_edge returned Some(e{got}), but it must return the edge it was given (e{given})");
+            log.about([EdgeId(*got).into(), EdgeId(*given).into()]);
             false
         }
         (Some(Returns::Vertex { .. }), Returned::Vertex { id, .. })
@@ -717,6 +1176,7 @@ fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Lo
                 Warn,
                 "split_edge returned v{id}, a vertex that was there before the split: it must return the new vertex"
             );
+            log.about([VertexId(*id).into()]);
             false
         }
         (Some(Returns::Vertex { position }), Returned::Vertex { id, position: got }) => {
@@ -737,6 +1197,7 @@ fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Lo
                     "split vertex is not at the midpoint of the edge: v{id} is at {}",
                     fmt_p(*got)
                 );
+                log.about([VertexId(*id).into()]);
                 say!(
                     log,
                     Detail,
@@ -930,17 +1391,11 @@ fn compare_vertices(
         if let Operation::Subdivide { rounds } = f.operation {
             say!(log, Detail, "{}", counts_rule(f, before, rounds));
             if got == before.vertices {
-                hint!(
-                    log,
-                    "no vertex was added: does loop_subdivide call split_edge on every old edge?"
-                );
+                hint!(log, f, Hint::Grader(GraderHint::NoVertexAdded));
             } else if got > want {
-                hint!(log, "more vertices than one per old edge: were edges created by split_edge split again? Loop over the edge ids taken before splitting.");
+                hint!(log, f, Hint::Grader(GraderHint::TooManyVertices));
             } else {
-                hint!(
-                    log,
-                    "fewer vertices than one per old edge: was every old edge split exactly once?"
-                );
+                hint!(log, f, Hint::Grader(GraderHint::TooFewVertices));
             }
         }
         return None;
@@ -952,6 +1407,15 @@ fn compare_vertices(
         &expected.edges,
         f.tolerance,
     );
+    log.comparison = Some(Comparison {
+        matched: m.to_expected.clone(),
+        missing_vertices: m.unmatched_expected.clone(),
+        extra_vertices: (0..m.to_expected.len())
+            .filter(|&i| m.to_expected[i].is_none())
+            .collect(),
+        missing_edges: None,
+        extra_edges: None,
+    });
     if !m.is_perfect() {
         say!(
             log,
@@ -987,12 +1451,13 @@ fn compare_vertices(
                     "your nearest vertex is v{j} at {} ({d:.6} away)",
                     fmt_p(mesh.positions[j])
                 );
+                log.about([VertexId(j as u32).into()]);
             }
         }
         for mistake in &expected.mistakes {
             if let Some(ps) = &mistake.positions {
                 if matching::same_positions(&mesh.positions, ps, f.tolerance) {
-                    hint!(log, "{}", mistake.hint);
+                    hint!(log, f, Hint::Catalogue(mistake.id.clone()));
                     break;
                 }
             }
@@ -1023,6 +1488,22 @@ fn compare_edges(
     }
     let mine = matching::mapped_edges(&mesh.edges, m);
     let diff = matching::diff_edges(&mine, &expected.edges);
+    // Name student vertices: expected index -> student id.
+    let mut student_of = vec![0; expected.positions.len()];
+    for (s, e) in m.to_expected.iter().enumerate() {
+        if let Some(e) = e {
+            student_of[*e] = s;
+        }
+    }
+    if let Some(c) = &mut log.comparison {
+        c.missing_edges = Some(diff.missing.clone());
+        c.extra_edges = Some(
+            diff.extra
+                .iter()
+                .map(|&[a, b]| [student_of[a], student_of[b]])
+                .collect(),
+        );
+    }
     if diff.is_empty() && mine.len() == want {
         say!(log, Info, "passed");
         return true;
@@ -1032,13 +1513,6 @@ fn compare_edges(
         Warn,
         "at least one of the edges connects incorrect vertices"
     );
-    // Name student vertices: expected index -> student id.
-    let mut student_of = vec![0; expected.positions.len()];
-    for (s, e) in m.to_expected.iter().enumerate() {
-        if let Some(e) = e {
-            student_of[*e] = s;
-        }
-    }
     let p = |i: usize| fmt_p(expected.positions[i]);
     if let Some(&[a, b]) = diff.missing.first() {
         say!(
@@ -1050,6 +1524,7 @@ fn compare_edges(
             student_of[b],
             p(b)
         );
+        log.about([a, b].map(|x| VertexId(student_of[x] as u32).into()));
     }
     if let Some(&[a, b]) = diff.extra.first() {
         say!(
@@ -1061,6 +1536,7 @@ fn compare_edges(
             student_of[b],
             p(b)
         );
+        log.about([a, b].map(|x| VertexId(student_of[x] as u32).into()));
     }
     if mine.len() != want {
         say!(
@@ -1075,7 +1551,7 @@ fn compare_edges(
     for mistake in &expected.mistakes {
         if let Some(edges) = &mistake.edges {
             if matching::diff_edges(&mine, edges).is_empty() {
-                hint!(log, "{}", mistake.hint);
+                hint!(log, f, Hint::Catalogue(mistake.id.clone()));
                 break;
             }
         }
@@ -1161,6 +1637,7 @@ fn check_returned_shape(
                     Warn,
                     "the returned edge e{got} does not join the two vertices that faced it"
                 );
+                log.about([EdgeId(*got).into()]);
             }
         }
         (
@@ -1175,6 +1652,8 @@ fn check_returned_shape(
                     Warn,
                     "the new vertex's halfedge does not run along the split edge"
                 );
+                log.about([VertexId(*id).into()]);
+                log.first_about(Some(Pointer::Vertex));
                 say!(log, Detail, "mesh[v{id}].halfedge must lead to vertex {a} or {b}, the ends of the edge that was split");
             }
             if let Some(ids) = &mesh.split {
@@ -1208,6 +1687,7 @@ fn check_split_ids(
             ids.is_new,
             fmt_p(ids.new_pos)
         );
+        log.about([VertexId(m).into()]);
     }
     let [x, y] = ids.edge_ends;
     let other = if x == m as usize { y } else { x };
@@ -1226,6 +1706,12 @@ fn check_split_ids(
             "e{} joins v{x} and v{y}; the new vertex is v{m}",
             ids.edge
         );
+        log.about([
+            EdgeId(ids.edge as u32).into(),
+            VertexId(x as u32).into(),
+            VertexId(y as u32).into(),
+            VertexId(m).into(),
+        ]);
     }
     if let Some(f) = ids.faces_away.first() {
         say!(
@@ -1233,25 +1719,32 @@ fn check_split_ids(
             Warn,
             "after split_edge, face f{f} is not one of the triangles around the new vertex: each old face beside the edge must become one of them"
         );
+        log.about([FaceId(*f as u32).into()]);
     }
 }
 
 /// Adds a detail line to a case's report, above its "end testing" line.
 pub fn add_detail(report: &mut CaseReport, text: String) {
-    let end = report.entries.pop();
-    let mut log = Log {
-        entries: std::mem::take(&mut report.entries),
-        passed: report.passed,
-        hint: report.hint.take(),
-    };
+    let (mut log, end) = Log::resume(report);
     say!(log, Detail, "{text}");
-    report.entries = log.entries;
-    report.entries.extend(end);
-    report.hint = log.hint;
+    log.finish(report, end);
+}
+
+/// Adds the step-through's finding to a failed case: which split broke
+/// the mesh, with the elements it names.
+pub fn note_frames(report: &mut CaseReport, frames: crate::frames::Frames) {
+    if let (false, Some(b)) = (report.passed, &frames.broken) {
+        let (mut log, end) = Log::resume(report);
+        say!(log, Detail, "{}", b.line);
+        log.about(b.elements.iter().copied());
+        log.finish(report, end);
+    }
+    report.frames = Some(frames);
 }
 
 /// Says, under a failure, that it showed only on a relabelled input, what
-/// that input looked like, and what to check.
+/// that input looked like, and what to check (chosen from what the
+/// failure is about: [`CaseReport::pointer`], never its words).
 pub fn note_labelling(
     report: &mut CaseReport,
     f: &Fixture,
@@ -1261,13 +1754,8 @@ pub fn note_labelling(
     seed: u64,
 ) {
     use crate::relabel::Kind;
-    let end = report.entries.pop();
-    let mut log = Log {
-        entries: std::mem::take(&mut report.entries),
-        passed: false,
-        hint: report.hint.take(),
-    };
-    let function = f.operation.stage().function();
+    let (mut log, end) = Log::resume(report);
+    log.passed = false;
     say!(
         log,
         Detail,
@@ -1276,32 +1764,46 @@ pub fn note_labelling(
         f.name
     );
     say!(log, Detail, "there, before the call: {}", labelling.what);
-    let warning = log
-        .entries
-        .iter()
-        .find(|e| e.level == Level::Warn)
-        .map(|e| e.text.clone())
-        .unwrap_or_default();
-    let advice = match (labelling.kind, f.operation.stage()) {
-        (Kind::HoleSide, _) => format!(
-            "does {function} work when mesh[e].halfedge lies in the hole? Start from the halfedge whose face is real"
-        ),
-        (_, Stage::Subdivide) => "your code depends on which halfedge each element points at, or on the order of ids: split_edge or flip_edge may leave a vertex or face pointing at a halfedge that moved (their own cases pass only by luck of the pointers), or the code assumes mesh[e].halfedge runs a particular way".to_string(),
-        _ if warning.contains("vertex's halfedge") => format!(
-            "does {function} update mesh[a].halfedge and mesh[b].halfedge when the halfedge they point at no longer starts there?"
-        ),
-        _ if warning.contains("face's halfedge") || warning.contains("to its face") => format!(
-            "does {function} reset mesh[f].halfedge of each face it changes? A face may point at a halfedge that moves to another face"
-        ),
-        _ => format!(
-            "does {function} assume which halfedge mesh[e].halfedge, mesh[v].halfedge or mesh[f].halfedge is? Any of them may be any valid one"
-        ),
+    let advice = match (labelling.kind, f.operation.stage(), report.pointer) {
+        (Kind::HoleSide, _, _) => GraderHint::LabellingHoleSide,
+        (_, Stage::Subdivide, _) => GraderHint::LabellingSubdivide,
+        (_, _, Some(Pointer::Vertex)) => GraderHint::LabellingVertexPointer,
+        (_, _, Some(Pointer::Face)) => GraderHint::LabellingFacePointer,
+        _ => GraderHint::LabellingAnyPointer,
     };
-    hint!(log, "{advice}");
-    report.entries = log.entries;
-    report.entries.extend(end);
-    report.passed = false;
-    report.hint = log.hint;
+    hint!(log, f, Hint::Grader(advice));
+    log.finish(report, end);
+    report.labelling = Some(LabellingFacts {
+        index,
+        of: total - 1,
+        seed,
+        kind: labelling.kind,
+        permutation: labelling.permutation.clone(),
+    });
+    report.name_in_case(&labelling.permutation);
+}
+
+impl CaseReport {
+    /// Every element named so far was seen in a labelling's numbering:
+    /// keep that id as `labelled` and give the case's one.
+    pub fn name_in_case(&mut self, p: &crate::relabel::Permutation) {
+        let renamed = |n: &mut Named| {
+            if n.labelled.is_none() {
+                n.labelled = Some(n.element);
+                n.element = p.to_case(n.element);
+            }
+        };
+        for e in &mut self.entries {
+            e.elements.iter_mut().for_each(renamed);
+        }
+        if let Some(Some(n)) = self.invalid.as_mut().map(|i| i.element.as_mut()) {
+            renamed(n);
+        }
+        if let Some(b) = self.frames.as_mut().and_then(|f| f.broken.as_mut()) {
+            renamed(&mut b.vertex);
+            b.edge.iter_mut().for_each(renamed);
+        }
+    }
 }
 
 /// `loop_subdivide` is built on `split_edge` and `flip_edge`: when those
@@ -1319,20 +1821,13 @@ pub fn note_dependencies(reports: &mut [CaseReport]) {
         .iter_mut()
         .filter(|r| r.stage == Stage::Subdivide && !r.passed)
     {
-        let end = r.entries.pop();
-        let mut log = Log {
-            entries: std::mem::take(&mut r.entries),
-            passed: false,
-            hint: r.hint.take(),
-        };
+        let (mut log, end) = Log::resume(r);
         say!(
             log,
             Detail,
             "loop_subdivide calls your {}, which failed above: fix that first",
             broken.join(" and ")
         );
-        r.entries = log.entries;
-        r.entries.extend(end);
-        r.hint = log.hint;
+        log.finish(r, end);
     }
 }

@@ -15,7 +15,8 @@
 //! - [`child`]: the child's side ([`child::serve`]) and the parent's
 //!   reading of its result ([`child::analyze`]).
 //! - [`matching`]: order-independent comparison of vertices and edges.
-//! - [`grade`]: the verdict and messages for one case.
+//! - [`grade`]: the verdict and messages for one case, and its findings
+//!   as data; [`frames`]: the step-through of a recorded subdivision.
 //! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
 //!   anything the student's code said is shown (as data, under `| `).
 //! - [`scaling`]: `loop_subdivide` timed on two sizes, to catch quadratic
@@ -23,10 +24,10 @@
 //! - [`build_sandbox`]: the launcher that locks a student's build in (used
 //!   by the TA's class grading and the Gradescope bundle).
 //!
-//! Two programs: `grader` (`main.rs`, the parent and launcher, linked with
-//! none of the student's code) and `grader-child` (`bin/grader-child.rs`,
-//! [`child::serve`] with the student's functions). Tests run other
-//! implementations through the same protocol.
+//! Two programs: `grader` (`main.rs`, the parent and launcher; this package
+//! does not depend on the student's crate) and `grader-child` (its own
+//! package, `grader/child/`: [`child::serve`] with the student's
+//! functions). Tests run other implementations through the same protocol.
 
 #[cfg(not(unix))]
 compile_error!(
@@ -38,6 +39,7 @@ pub mod build_sandbox;
 pub mod child;
 pub mod digest;
 pub mod fixture;
+pub mod frames;
 pub mod grade;
 pub mod html;
 pub mod matching;
@@ -169,6 +171,14 @@ pub struct Cli {
     /// saved (a save during a run starts it over); Ctrl-C stops.
     #[arg(short, long)]
     pub watch: bool,
+    /// Record every subdivision's splits, as --report does (to measure
+    /// what the recording costs).
+    #[arg(long, hide = true)]
+    pub record_subdivision: bool,
+    /// Rewrite every message the judge says (for the lab's own tests:
+    /// no verdict, hint or element may change with the words).
+    #[arg(long, hide = true)]
+    pub reword_messages: bool,
     /// The file --watch follows (for the lab's own tests).
     #[arg(long, hide = true, value_name = "PATH", requires = "watch")]
     pub watch_file: Option<PathBuf>,
@@ -254,9 +264,11 @@ pub fn main_with(program: impl FnOnce() -> Result<runner::ChildProgram, String>)
     }
 }
 
-/// The `grader` program: the student's functions live in `grader-child`,
-/// next to this program. Run through cargo (`cargo run -p grader`), it
-/// builds that program first, so it always holds the code as it is now.
+/// The `grader` program: the student's functions live in `grader-child`
+/// (package `grader-child`), next to this program. Run through cargo
+/// (`cargo run -p grader`), it builds that program first, so it always
+/// holds the code as it is now; that build is the one that compiles the
+/// student's crate, so its output (warnings, errors) goes to the student.
 pub fn student_child_program() -> Result<runner::ChildProgram, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
     let dir = exe.parent().ok_or("this program has no folder")?;
@@ -267,22 +279,28 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
             Some(name) => name.to_string(),
         };
         let target = dir.parent().ok_or("this program's folder has no parent")?;
-        // `cargo run -p grader` compiled crates/meshedit just before (this
-        // package depends on it) and showed its warnings; cargo would replay
-        // them here, so its output is shown only if this build fails.
+        // `cargo run -p grader` did not compile crates/meshedit (this
+        // package does not depend on it): this build does, and its
+        // warnings and errors go straight to the student, once.
         let built = std::process::Command::new(cargo)
-            .args(["build", "--quiet", "-p", "grader", "--bin", "grader-child"])
+            .args([
+                "build",
+                "--quiet",
+                "-p",
+                "grader-child",
+                "--bin",
+                "grader-child",
+            ])
             .arg("--profile")
             .arg(&profile)
             .arg("--target-dir")
             .arg(target)
             .current_dir(env!("CARGO_MANIFEST_DIR"))
             .stdin(std::process::Stdio::null())
-            .output()
+            .stdout(std::process::Stdio::null())
+            .status()
             .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if !built.status.success() {
-            use std::io::Write;
-            let _ = std::io::stderr().write_all(&built.stderr);
+        if !built.success() {
             return Err(
                 "your code does not compile: the compiler's messages are above".to_string(),
             );
@@ -290,7 +308,7 @@ pub fn student_child_program() -> Result<runner::ChildProgram, String> {
     }
     if !child.is_file() {
         return Err(format!(
-            "{} is missing: build it with `cargo build -p grader`",
+            "{} is missing: build it with `cargo build -p grader-child`",
             child.display()
         ));
     }
@@ -322,6 +340,8 @@ struct Case<'a> {
     fixture: &'a Fixture,
     seed: u64,
     labellings: Vec<relabel::Labelling>,
+    /// Record a subdivision's splits for the step-through (`--report`).
+    record: bool,
 }
 
 impl<'a> Case<'a> {
@@ -335,6 +355,7 @@ impl<'a> Case<'a> {
             fixture,
             seed,
             labellings,
+            record: cli.report.is_some() || cli.record_subdivision,
         }
     }
 
@@ -483,22 +504,46 @@ fn grade_case(
             budget: budget as u64,
             mesh: l.mesh.clone(),
         };
+        let record = case.record && matches!(op, wire::Op::Subdivide { .. });
+        // A recording adds its frames (at most its byte bound, and their
+        // counts) to the result.
+        let recording = if record {
+            halfedge::recording::Limits::default().bytes + (1 << 20)
+        } else {
+            0
+        };
         let raw = runner::run_child(
             program,
             limits,
-            request.encode(),
+            request.encode_asking(record),
             timeout,
-            budget * 64 + (1 << 20),
+            budget * 64 + (1 << 20) + recording,
         )
         .map_err(|e| format!("cannot start a grading process: {e}"))?;
         if protections.is_none() {
             *protections = raw.sandbox.clone();
         }
         let mut result = None;
+        let mut recorded = None;
         let run = match raw.exit {
-            Exit::Finished(ran) => {
+            Exit::Finished(wire::Ran::Panicked {
+                message,
+                location,
+                grew_past: Some(limit),
+                ..
+            }) => Run::GrewPast {
+                limit,
+                message,
+                location,
+            },
+            Exit::Finished(mut ran) => {
                 if let wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } = &ran {
                     result = Some(mesh.clone());
+                }
+                if let wire::Ran::Returned { recorded: r, .. }
+                | wire::Ran::Panicked { recorded: r, .. } = &mut ran
+                {
+                    recorded = r.take();
                 }
                 let mut outcome = child::analyze(op, &l.mesh, ran);
                 if let child::Outcome::Sequence { steps, .. } = &mut outcome {
@@ -536,6 +581,10 @@ fn grade_case(
         };
         report.input = Some(l.mesh.clone());
         report.result = result;
+        if let Some(recorded) = recorded {
+            let frames = frames::read(recorded, report.result.as_ref(), &l.mesh, f.tolerance);
+            grade::note_frames(&mut report, frames);
+        }
         if !report.passed {
             if i > 0 {
                 grade::note_labelling(&mut report, f, l, i, labellings.len(), seed);
@@ -688,6 +737,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
             cli.timeout
         ));
     }
+    grade::set_rewording(cli.reword_messages);
     let root = fixtures_root(cli);
     let all = match fixture::load_all(&root) {
         Ok(all) => all,

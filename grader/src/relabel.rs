@@ -28,6 +28,66 @@ pub struct Labelling {
     /// How the pointers were set, in the contract's names, for a message.
     pub what: String,
     pub kind: Kind,
+    /// Every element's id in this labelling.
+    pub permutation: Permutation,
+}
+
+/// Where each input element went in a labelling: `vertices[i]` is the id
+/// input vertex `i` has there; the same for edges, faces and halfedges.
+/// Elements made later (by the student's code) are not permuted.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Permutation {
+    pub vertices: Vec<u32>,
+    pub edges: Vec<u32>,
+    pub faces: Vec<u32>,
+    pub halfedges: Vec<u32>,
+}
+
+impl Permutation {
+    fn identity(mesh: &Mesh) -> Permutation {
+        let ids = |n: usize| (0..n as u32).collect();
+        Permutation {
+            vertices: ids(mesh.num_vertices()),
+            edges: ids(mesh.num_edges()),
+            faces: ids(mesh.num_faces()),
+            halfedges: ids(mesh.num_halfedges()),
+        }
+    }
+
+    fn of(p: [&[usize]; 4]) -> Permutation {
+        let ids = |p: &[usize]| p.iter().map(|&x| x as u32).collect();
+        Permutation {
+            vertices: ids(p[0]),
+            edges: ids(p[1]),
+            faces: ids(p[2]),
+            halfedges: ids(p[3]),
+        }
+    }
+
+    /// The case's (input's) id of an element named in the labelling; an
+    /// id past the input's elements is the same in both.
+    pub fn to_case(&self, e: halfedge::Element) -> halfedge::Element {
+        use halfedge::Element as E;
+        let back = |p: &[u32], id: u32| p.iter().position(|&x| x == id).map_or(id, |i| i as u32);
+        match e {
+            E::Vertex(v) => E::Vertex(VertexId(back(&self.vertices, v.0))),
+            E::Edge(x) => E::Edge(EdgeId(back(&self.edges, x.0))),
+            E::Face(f) => E::Face(FaceId(back(&self.faces, f.0))),
+            E::Halfedge(h) => E::Halfedge(HalfedgeId(back(&self.halfedges, h.0))),
+        }
+    }
+
+    /// The labelling's id of an input element (the inverse of [`Permutation::to_case`]).
+    pub fn to_labelling(&self, e: halfedge::Element) -> halfedge::Element {
+        use halfedge::Element as E;
+        let fwd = |p: &[u32], id: u32| p.get(id as usize).copied().unwrap_or(id);
+        match e {
+            E::Vertex(v) => E::Vertex(VertexId(fwd(&self.vertices, v.0))),
+            E::Edge(x) => E::Edge(EdgeId(fwd(&self.edges, x.0))),
+            E::Face(f) => E::Face(FaceId(fwd(&self.faces, f.0))),
+            E::Halfedge(h) => E::Halfedge(HalfedgeId(fwd(&self.halfedges, h.0))),
+        }
+    }
 }
 
 /// What a labelling is meant to catch.
@@ -41,6 +101,18 @@ pub enum Kind {
     HoleSide,
     /// Ids and pointers at random.
     Random,
+}
+
+impl Kind {
+    /// A stable name for data.
+    pub fn key(self) -> &'static str {
+        match self {
+            Kind::AsBuilt => "as-built",
+            Kind::Pointers => "pointers",
+            Kind::HoleSide => "hole-side",
+            Kind::Random => "random",
+        }
+    }
 }
 
 /// A small, seedable generator (SplitMix64): the same seed gives the same
@@ -170,6 +242,7 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
         vertices: input.vertex_ids().collect(),
         what: "the mesh as built from its faces".into(),
         kind: Kind::AsBuilt,
+        permutation: Permutation::identity(input),
     }];
     let shuffled = |ptr: Pointers, rng: &mut Rng| {
         let pv = rng.permutation(input.num_vertices());
@@ -182,6 +255,7 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
             mesh,
             edge.map(|e| EdgeId::from_index(pe[e.index()])),
             vertices,
+            Permutation::of([&pv, &pe, &pf, &ph]),
         )
     };
     if let Some(e) = edge {
@@ -217,11 +291,12 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
                 if in_hole { ", which lies in the hole" } else { "" },
                 if side == h { "after" } else { "before" }
             );
-            let (mesh, edge, vertices) = shuffled(ptr, &mut rng);
+            let (mesh, edge, vertices, permutation) = shuffled(ptr, &mut rng);
             out.push(Labelling {
                 mesh,
                 edge,
                 vertices,
+                permutation,
                 what,
                 kind: if in_hole {
                     Kind::HoleSide
@@ -233,11 +308,12 @@ pub fn labellings(input: &Mesh, edge: Option<EdgeId>, seed: u64, random: usize) 
     }
     for _ in 0..random {
         let ptr = random_pointers(input, &mut rng);
-        let (mesh, edge, vertices) = shuffled(ptr, &mut rng);
+        let (mesh, edge, vertices, permutation) = shuffled(ptr, &mut rng);
         out.push(Labelling {
             mesh,
             edge,
             vertices,
+            permutation,
             what: "every id renumbered and every vertex, edge and face pointing at another of its \
                    halfedges, at random"
                 .into(),

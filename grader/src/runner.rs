@@ -91,6 +91,14 @@ pub struct RawReport {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Run {
     Done(crate::child::Outcome),
+    /// The function panicked because the mesh library's growth budget
+    /// (`limit` elements) stopped it: a fact the child sends, so the
+    /// panic's words are never read.
+    GrewPast {
+        limit: u64,
+        message: String,
+        location: Option<String>,
+    },
     TimedOut(Duration),
     StuckBeforeCall(Duration),
     StackOverflow,

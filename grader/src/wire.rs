@@ -6,6 +6,8 @@
 //! program starts), [`Frame::Started`] (just before the student's function
 //! is called: the time limit starts there), [`Frame::CpuTime`] (what the
 //! call cost), then one [`Frame::Result`].
+//! A request may ask the child to record a subdivision (see
+//! `halfedge::recording`): the frames then come back inside the result.
 //!
 //! The encoding is plain little-endian binary, floats as their bits, so a
 //! NaN or a negative zero comes back exactly as the student left it. The
@@ -89,16 +91,31 @@ pub enum Answer {
     Vertex(VertexId),
 }
 
+/// What a recording kept (see `halfedge::recording`): the mesh before each
+/// vertex the student's code created, and the bound that cut it, if any.
+#[derive(Clone, Debug, Default)]
+pub struct Recorded {
+    pub frames: Vec<Mesh>,
+    pub cut: Option<halfedge::recording::Cut>,
+}
+
 /// How the student's function ended, as the child saw it.
 #[derive(Clone, Debug)]
 pub enum Ran {
     Returned {
         answer: Answer,
         mesh: Mesh,
+        /// When the request asked for one.
+        recorded: Option<Recorded>,
     },
     Panicked {
         message: String,
         location: Option<String>,
+        /// The growth budget the mesh library hit, when its panic is the
+        /// one (`halfedge::mesh::element_budget_hit`).
+        grew_past: Option<u64>,
+        /// When the request asked for one: the frames up to the panic.
+        recorded: Option<Recorded>,
     },
     /// A sequence: each step that ran, the mesh as the last left it, and
     /// the panic that ended it early, if one did.
@@ -304,7 +321,14 @@ impl Reader<'_> {
 }
 
 impl Request {
+    /// The request, asking for no recording.
     pub fn encode(&self) -> Vec<u8> {
+        self.encode_asking(false)
+    }
+
+    /// The request; `record` asks the child to record the function's
+    /// splits (a byte after the mesh).
+    pub fn encode_asking(&self, record: bool) -> Vec<u8> {
         let mut out = Vec::new();
         out.extend_from_slice(REQUEST_MAGIC);
         match self.op {
@@ -333,10 +357,16 @@ impl Request {
         }
         put_u64(&mut out, self.budget);
         put_mesh(&mut out, &self.mesh);
+        out.push(record as u8);
         out
     }
 
     pub fn decode(bytes: &[u8]) -> Result<Request, WireError> {
+        Request::decode_asking(bytes).map(|(r, _)| r)
+    }
+
+    /// The request and whether it asks for a recording.
+    pub fn decode_asking(bytes: &[u8]) -> Result<(Request, bool), WireError> {
         let mut r = Reader { bytes };
         if r.take(4)? != REQUEST_MAGIC {
             return Err(WireError("not a grading request".into()));
@@ -358,13 +388,17 @@ impl Request {
         }
         let budget = r.u64()?;
         let mesh = r.mesh()?;
+        let record = r.bool()?;
         r.end()?;
-        Ok(Request {
-            op,
-            steps,
-            budget,
-            mesh,
-        })
+        Ok((
+            Request {
+                op,
+                steps,
+                budget,
+                mesh,
+            },
+            record,
+        ))
     }
 }
 
@@ -400,7 +434,11 @@ pub fn reported_cpu_time(bytes: &[u8]) -> Option<std::time::Duration> {
 pub fn result_frame(ran: &Ran) -> Vec<u8> {
     let mut out = vec![TAG_RESULT];
     match ran {
-        Ran::Returned { answer, mesh } => {
+        Ran::Returned {
+            answer,
+            mesh,
+            recorded,
+        } => {
             out.push(0);
             match *answer {
                 Answer::Unit => out.push(0),
@@ -415,11 +453,19 @@ pub fn result_frame(ran: &Ran) -> Vec<u8> {
                 }
             }
             put_mesh(&mut out, mesh);
+            put_recorded(&mut out, recorded.as_ref());
         }
-        Ran::Panicked { message, location } => {
+        Ran::Panicked {
+            message,
+            location,
+            grew_past,
+            recorded,
+        } => {
             out.push(1);
             put_str(&mut out, message);
             put_str(&mut out, location.as_deref().unwrap_or(""));
+            put_u64(&mut out, grew_past.unwrap_or(0));
+            put_recorded(&mut out, recorded.as_ref());
         }
         Ran::Sequence { steps, mesh, panic } => {
             out.push(2);
@@ -439,6 +485,30 @@ pub fn result_frame(ran: &Ran) -> Vec<u8> {
         }
     }
     out
+}
+
+fn put_recorded(out: &mut Vec<u8>, recorded: Option<&Recorded>) {
+    use halfedge::recording::Cut;
+    let Some(r) = recorded else {
+        out.push(0);
+        return;
+    };
+    out.push(1);
+    put_u32(out, r.frames.len() as u32);
+    for m in &r.frames {
+        put_mesh(out, m);
+    }
+    match r.cut {
+        None => out.push(0),
+        Some(Cut::Frames(n)) => {
+            out.push(1);
+            put_u64(out, n as u64);
+        }
+        Some(Cut::Bytes(n)) => {
+            out.push(2);
+            put_u64(out, n as u64);
+        }
+    }
 }
 
 fn put_opt_u32(out: &mut Vec<u8>, x: Option<u32>) {
@@ -480,6 +550,26 @@ fn put_step(out: &mut Vec<u8>, s: &StepRan) {
 }
 
 impl Reader<'_> {
+    fn recorded(&mut self) -> Result<Option<Recorded>, WireError> {
+        use halfedge::recording::Cut;
+        if !self.bool()? {
+            return Ok(None);
+        }
+        // The smallest mesh is 16 bytes (four zero counts).
+        let n = self.count(16)?;
+        let mut frames = Vec::with_capacity(n);
+        for _ in 0..n {
+            frames.push(self.mesh()?);
+        }
+        let cut = match self.u8()? {
+            0 => None,
+            1 => Some(Cut::Frames(self.u64()? as usize)),
+            2 => Some(Cut::Bytes(self.u64()? as usize)),
+            x => return Err(WireError(format!("unknown recording cut {x}"))),
+        };
+        Ok(Some(Recorded { frames, cut }))
+    }
+
     fn opt_u32(&mut self) -> Result<Option<u32>, WireError> {
         Ok(if self.bool()? {
             Some(self.u32()?)
@@ -542,12 +632,19 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
                         Ran::Returned {
                             answer,
                             mesh: r.mesh()?,
+                            recorded: r.recorded()?,
                         }
                     }
                     1 => {
                         let message = r.str()?;
                         let location = Some(r.str()?).filter(|l| !l.is_empty());
-                        Ran::Panicked { message, location }
+                        let grew_past = Some(r.u64()?).filter(|&n| n > 0);
+                        Ran::Panicked {
+                            message,
+                            location,
+                            grew_past,
+                            recorded: r.recorded()?,
+                        }
                     }
                     2 => {
                         // The smallest step is 19 bytes.
@@ -696,6 +793,8 @@ mod tests {
             mesh,
         };
         let back = Request::decode(&req.encode()).unwrap();
+        assert!(!Request::decode_asking(&req.encode()).unwrap().1);
+        assert!(Request::decode_asking(&req.encode_asking(true)).unwrap().1);
         assert_eq!(back.op, req.op);
         assert_eq!(back.budget, 1234);
         assert!(same(&back.mesh, &req.mesh));
@@ -782,6 +881,10 @@ mod tests {
         bytes.extend(result_frame(&Ran::Returned {
             answer: Answer::Edge(EdgeId(3)),
             mesh: mesh.clone(),
+            recorded: Some(Recorded {
+                frames: vec![mesh.clone(), Mesh::new()],
+                cut: Some(halfedge::recording::Cut::Bytes(1 << 25)),
+            }),
         }));
         let frames = decode_frames(&bytes).unwrap();
         assert_eq!(
@@ -791,19 +894,34 @@ mod tests {
         assert!(matches!(&frames[0], Frame::Sandbox(s) if s == "landlock v6"));
         assert!(matches!(frames[1], Frame::Started));
         match &frames[3] {
-            Frame::Result(Ran::Returned { answer, mesh: m }) => {
+            Frame::Result(Ran::Returned {
+                answer,
+                mesh: m,
+                recorded: Some(r),
+            }) => {
                 assert_eq!(*answer, Answer::Edge(EdgeId(3)));
                 assert!(same(m, &mesh));
+                assert_eq!(r.frames.len(), 2);
+                assert!(same(&r.frames[0], &mesh) && same(&r.frames[1], &Mesh::new()));
+                assert_eq!(r.cut, Some(halfedge::recording::Cut::Bytes(1 << 25)));
             }
             other => panic!("{other:?}"),
         }
         let panicked = result_frame(&Ran::Panicked {
             message: "boom".into(),
             location: None,
+            grew_past: Some(4000),
+            recorded: None,
         });
         match &decode_frames(&panicked).unwrap()[0] {
-            Frame::Result(Ran::Panicked { message, location }) => {
+            Frame::Result(Ran::Panicked {
+                message,
+                location,
+                grew_past,
+                recorded: None,
+            }) => {
                 assert_eq!((message.as_str(), location), ("boom", &None));
+                assert_eq!(*grew_past, Some(4000));
             }
             other => panic!("{other:?}"),
         }
@@ -815,6 +933,7 @@ mod tests {
         let good = result_frame(&Ran::Returned {
             answer: Answer::Unit,
             mesh,
+            recorded: None,
         });
         for cut in [1, 2, 3, 10, good.len() - 1] {
             assert!(decode_frames(&good[..cut]).is_err(), "cut at {cut}");

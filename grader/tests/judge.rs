@@ -129,14 +129,14 @@ fn finished(
     f: &Fixture,
     returned: Returned,
     after: Counts,
-    invalid: Option<&str>,
+    invalid: Option<halfedge::Invalid>,
     mesh: Option<MeshResult>,
 ) -> CaseReport {
     let child = ChildReport {
         run: Run::Done(Outcome::Finished {
             before: input_counts(f),
             after,
-            invalid: invalid.map(str::to_string),
+            invalid: invalid.map(grader::child::Problem::of),
             mesh: mesh.map(Box::new),
             // A refusal that returns None is taken to have left the mesh alone.
             unchanged: returned == Returned::Nothing,
@@ -350,7 +350,11 @@ fn an_invalid_mesh_stops_the_case() {
         &f,
         returned,
         after,
-        Some("A halfedge's twin's twin is not itself! (h3)"),
+        Some(halfedge::Invalid {
+            element: halfedge::HalfedgeId(3).into(),
+            check: halfedge::Check::TwinNotMutual,
+            message: halfedge::Check::TwinNotMutual.message().into(),
+        }),
         None,
     );
     assert_fails_with(

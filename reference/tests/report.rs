@@ -679,6 +679,8 @@ fn invalid_report(
             level: grader::grade::Level::Warn,
             text: format!("the result of split_edge is a invalid mesh: {problem}"),
             quote: None,
+            elements: vec![grader::grade::Named::seen(problem.element)],
+            hint: None,
             file: file!(),
             line: line!(),
         }],
@@ -687,6 +689,13 @@ fn invalid_report(
         input: Some(input),
         result: Some(result),
         hint: None,
+        hint_id: None,
+        end: grader::grade::CaseEnd::JudgeFailed,
+        comparison: None,
+        invalid: None,
+        labelling: None,
+        pointer: None,
+        frames: None,
     }
 }
 
@@ -723,7 +732,17 @@ fn a_split_failing_on_a_relabelled_input_shows_both_numberings() {
         .expect("a random labelling the mistake fails on");
     let mut result = l.mesh.clone();
     split(&mut result, l.edge.unwrap());
-    let report = invalid_report(&f, l.mesh.clone(), result);
+    let mut report = invalid_report(&f, l.mesh.clone(), result);
+    // As the grader reports a case that failed only there: the labelling's
+    // facts, and each named element in both numberings.
+    report.labelling = Some(grader::grade::LabellingFacts {
+        index: 1,
+        of: 4,
+        seed: 0,
+        kind: l.kind,
+        permutation: l.permutation.clone(),
+    });
+    report.name_in_case(&l.permutation);
     let dir = scratch("inspect-relabelled");
     grader::html::write_report(&dir, &[(&f, &report)]).unwrap();
     let data = case_data(&dir, "cube-split");
@@ -902,6 +921,8 @@ fn invalid_like(
             level: grader::grade::Level::Warn,
             text: String::new(),
             quote: None,
+            elements: Vec::new(),
+            hint: None,
             file: file!(),
             line: line!(),
         }],
@@ -910,6 +931,13 @@ fn invalid_like(
         input: Some(input),
         result: Some(result),
         hint: None,
+        hint_id: None,
+        end: grader::grade::CaseEnd::JudgeFailed,
+        comparison: None,
+        invalid: None,
+        labelling: None,
+        pointer: None,
+        frames: None,
     }
 }
 

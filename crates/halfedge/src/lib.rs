@@ -121,6 +121,7 @@
 //! - [`obj`]: OBJ files in and out; [`shapes`]: the lab's objects and more.
 //! - [`validate`]: consistency checks; [`debug`]: describe, centre, normal.
 //! - [`logging`]: the lab's `file.rs:LINE [info] message` log format.
+//! - [`recording`]: the grader's step-through switch (off in normal use).
 
 pub mod build;
 pub mod debug;
@@ -128,6 +129,7 @@ pub mod ids;
 pub mod logging;
 pub mod mesh;
 pub mod obj;
+pub mod recording;
 pub mod shapes;
 pub mod traverse;
 pub mod validate;
@@ -136,4 +138,4 @@ pub use build::MeshError;
 pub use glam::DVec3;
 pub use ids::{EdgeId, Element, FaceId, HalfedgeId, Ids, VertexId};
 pub use mesh::{Edge, Face, Halfedge, Mesh, Vertex};
-pub use validate::Invalid;
+pub use validate::{Check, Invalid};

@@ -216,7 +216,7 @@ impl Mesh {
     #[inline]
     #[track_caller]
     pub fn new_vertex(&mut self, pos: DVec3) -> VertexId {
-        self.charge_one();
+        self.charge_vertex();
         self.vertices.push(Vertex {
             pos,
             new_pos: DVec3::ZERO,
@@ -300,6 +300,9 @@ impl Mesh {
 #[inline(never)]
 #[track_caller]
 fn grew_past(limit: usize) -> ! {
+    // The fact, for a program that must tell this panic from others
+    // without reading its words.
+    BUDGET_HIT.store(limit, Ordering::Relaxed);
     panic!(
         "the mesh grew past {limit} elements (vertices + edges + faces + halfedges): \
          is something splitting without end? (found by the mesh library, {}:{})",
@@ -316,6 +319,19 @@ static PROCESS_BUDGET: AtomicUsize = AtomicUsize::new(0);
 /// The grader's child sets it, so replacing the mesh does not escape the cap.
 pub fn set_process_element_budget(limit: Option<usize>) {
     PROCESS_BUDGET.store(limit.unwrap_or(0), Ordering::Relaxed);
+    BUDGET_HIT.store(0, Ordering::Relaxed);
+}
+
+/// The last growth budget a mesh of this process hit (0: none since the
+/// process budget was last set).
+static BUDGET_HIT: AtomicUsize = AtomicUsize::new(0);
+
+/// The growth budget whose panic ("the mesh grew past N elements") a mesh
+/// of this process raised since [`set_process_element_budget`] was last
+/// called, if any: how the grader's child tells that panic from the
+/// student's own.
+pub fn element_budget_hit() -> Option<usize> {
+    Some(BUDGET_HIT.load(Ordering::Relaxed)).filter(|&n| n > 0)
 }
 
 /// The message of an id that names no element, kept out of line: indexing is
@@ -365,3 +381,15 @@ arena_index!(VertexId, Vertex, vertices, "vertex");
 arena_index!(EdgeId, Edge, edges, "edge");
 arena_index!(FaceId, Face, faces, "face");
 arena_index!(HalfedgeId, Halfedge, halfedges, "halfedge");
+
+impl Mesh {
+    /// [`Mesh::charge_one`] for a vertex, which also lets a running
+    /// recording keep the mesh as it is before the vertex is added (see
+    /// [`crate::recording`]).
+    #[inline]
+    #[track_caller]
+    fn charge_vertex(&self) {
+        crate::recording::before_vertex(self);
+        self.charge_one();
+    }
+}

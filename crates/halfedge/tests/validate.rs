@@ -17,6 +17,22 @@ fn assert_invalid(mesh: &Mesh, element: impl Into<Element>, message: &str) {
                 (message, element),
                 "\nexpected: {message} ({element})\n     got: {got}"
             );
+            // The check is the fact; its message is the one given.
+            assert_eq!(got.check.message(), message);
+            assert_eq!(halfedge::Check::from_message(message), Some(got.check));
+        }
+    }
+}
+
+#[test]
+fn every_check_has_its_own_message_and_key() {
+    use halfedge::Check;
+    for (i, a) in Check::ALL.iter().enumerate() {
+        assert_eq!(Check::from_key(a.key()), Some(*a));
+        assert_eq!(Check::from_message(a.message()), Some(*a));
+        for b in &Check::ALL[i + 1..] {
+            assert_ne!(a.message(), b.message());
+            assert_ne!(a.key(), b.key());
         }
     }
 }

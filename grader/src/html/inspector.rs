@@ -35,6 +35,18 @@ pub struct Frames {
     pub cut: Option<String>,
 }
 
+impl Frames {
+    /// The page's frames from what the grader recorded and judged
+    /// (`CaseReport::frames`).
+    pub fn from_recorded(recorded: &crate::frames::Frames) -> Frames {
+        Frames {
+            meshes: recorded.frames.clone(),
+            first_broken: recorded.first_broken,
+            cut: recorded.cut.clone(),
+        }
+    }
+}
+
 /// A float as JSON: six decimals near the mesh, exponent form far off,
 /// `null` when not finite (JSON has no NaN).
 fn num(out: &mut String, x: f64) {

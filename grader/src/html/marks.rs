@@ -2,7 +2,7 @@
 //! expected one (matched, missing, extra), the elements the messages are
 //! about, the case's edge, and where the pictures look from.
 
-use halfedge::{DVec3, EdgeId, Element, FaceId, HalfedgeId, Mesh, VertexId};
+use halfedge::{DVec3, Element, Mesh};
 
 use super::faces::{Shape, MAX_DEGREE};
 use super::svg::{Camera, Prepared};
@@ -51,53 +51,20 @@ pub(super) enum Named {
 /// The most named elements drawn per case.
 pub(super) const NAMED_LIMIT: usize = 12;
 
-/// The elements a case's messages are about, in order, each once.
-///
-/// THE SEAM: this is the one place the report reads the grader's message
-/// text (for `v7`, `e229`, `h40`, `f3`, as the halfedge crate prints
-/// them). When entries carry their elements as data (issue 17, part B),
-/// only this function changes: it will read `entry.elements` instead.
+/// The elements a case's messages are about, in order, each once, in the
+/// numbering of the mesh drawn (the labelling's, when the case failed on a
+/// relabelled input: the pictures show the mesh as sent). The entries
+/// carry them as data (`Entry::elements`): no message text is read.
 pub(super) fn named_elements(entries: &[Entry]) -> Vec<Element> {
-    let texts: Vec<&str> = entries
+    let mut found = Vec::new();
+    for named in entries
         .iter()
         .filter(|e| e.level != Level::Info)
-        .map(|e| e.text.as_str())
-        .collect();
-    element_names(&texts)
-}
-
-/// The element ids written in `texts`, in order, each once.
-pub(super) fn element_names(texts: &[&str]) -> Vec<Element> {
-    let mut found = Vec::new();
-    for text in texts {
-        let chars: Vec<char> = text.chars().collect();
-        let mut i = 0;
-        while i < chars.len() {
-            let starts = i == 0 || !chars[i - 1].is_alphanumeric() && chars[i - 1] != '_';
-            if starts && matches!(chars[i], 'v' | 'e' | 'h' | 'f') {
-                let digits: String = chars[i + 1..]
-                    .iter()
-                    .take_while(|c| c.is_ascii_digit())
-                    .collect();
-                let after = chars.get(i + 1 + digits.len());
-                let ends = after.is_none_or(|c| !c.is_alphanumeric() && *c != '_');
-                if !digits.is_empty() && ends {
-                    if let Ok(n) = digits.parse::<u32>() {
-                        let element = match chars[i] {
-                            'v' => Element::Vertex(VertexId(n)),
-                            'e' => Element::Edge(EdgeId(n)),
-                            'h' => Element::Halfedge(HalfedgeId(n)),
-                            _ => Element::Face(FaceId(n)),
-                        };
-                        if !found.contains(&element) {
-                            found.push(element);
-                        }
-                    }
-                }
-                i += 1 + digits.len();
-            } else {
-                i += 1;
-            }
+        .flat_map(|e| &e.elements)
+    {
+        let element = named.labelled.unwrap_or(named.element);
+        if !found.contains(&element) {
+            found.push(element);
         }
     }
     found
@@ -332,21 +299,19 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             .map(|p| p.map_or([f64::NAN; 3], |p| p.to_array()))
             .collect()
     };
-    // A seam like `named_elements`: `relabel.rs` knows the permutation;
-    // when the report carries it (issue 17, part B) this reads it instead
-    // of matching the input as sent to the fixture's by position.
-    let relabel = matching::match_by_neighbourhood(
-        &as_array(&input),
-        &input.edges,
-        &as_array(&fixture_input),
-        &fixture_input.edges,
-        tol,
-    );
-    let case_of = relabel.to_expected.clone();
-    let mut id_of = vec![None; n_in];
-    for (sent, fixture) in relabel.to_expected.iter().enumerate() {
-        if let Some(slot) = fixture.and_then(|i| id_of.get_mut(i)) {
-            *slot = Some(sent);
+    // Where each fixture vertex went in the input as sent: the labelling's
+    // permutation when the case failed on a relabelled input (relabel.rs
+    // made it), else the identity (the mesh as built from the faces).
+    let mut id_of: Vec<Option<usize>> = (0..n_in).map(Some).collect();
+    if let Some(l) = &r.labelling {
+        for (i, slot) in id_of.iter_mut().enumerate() {
+            *slot = l.permutation.vertices.get(i).map(|&v| v as usize);
+        }
+    }
+    let mut case_of = vec![None; input.points.len()];
+    for (fixture, sent) in id_of.iter().enumerate() {
+        if let Some(slot) = sent.and_then(|s| case_of.get_mut(s)) {
+            *slot = Some(fixture);
         }
     }
     let id = |i: usize| id_of.get(i).copied().flatten();

@@ -533,8 +533,16 @@ pub fn write_report_live(
     cases: &[(&Fixture, &CaseReport)],
     live: bool,
 ) -> Result<PathBuf, String> {
-    let cases: Vec<(&Fixture, &CaseReport, Option<&Frames>)> =
-        cases.iter().map(|&(f, r)| (f, r, None)).collect();
+    // Each subdivision's step-through, where the grader recorded one.
+    let frames: Vec<Option<Frames>> = cases
+        .iter()
+        .map(|(_, r)| r.frames.as_ref().map(Frames::from_recorded))
+        .collect();
+    let cases: Vec<(&Fixture, &CaseReport, Option<&Frames>)> = cases
+        .iter()
+        .zip(&frames)
+        .map(|(&(f, r), frames)| (f, r, frames.as_ref()))
+        .collect();
     write_report_frames(dir, &cases, live)
 }
 

@@ -1,5 +1,8 @@
 //! The grader's child program: runs one case on your functions. The grader
 //! starts it, locked in; it is of no use on its own.
+//!
+//! It is its own package, the only one that depends on `crates/meshedit`:
+//! the grader (`grader/`) cannot link a line of the student's code.
 
 fn main() {
     grader::child::serve(&grader::Implementation {
