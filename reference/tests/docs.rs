@@ -139,6 +139,27 @@ fn rust_files(dir: &str) -> Vec<(String, String)> {
 /// `try`'s `say!(true, ...)`, the report's `log_line(.., true, ..)`), the
 /// scaling check's lines, `validate()`'s messages, and the mesh library's
 /// panics a student's code triggers (shown as `... panicked: <message>`).
+/// The first string of each `match` arm starting with `variant` in the
+/// function of `file` whose signature starts `signature`: the words of
+/// messages kept as ids (one arm per id).
+fn arm_strings(file: &str, signature: &str, variant: &str) -> Vec<String> {
+    let text = read(file);
+    let start = text
+        .find(signature)
+        .unwrap_or_else(|| panic!("{file}: no `{signature}`"));
+    let end = text[start..]
+        .find("\n    }\n")
+        .map_or(text.len(), |e| start + e);
+    text[start..end]
+        .split(variant)
+        .skip(1)
+        .filter_map(|arm| {
+            let rest = &arm[arm.find('"')? + 1..];
+            Some(rest[..rest.find('"')?].to_string())
+        })
+        .collect()
+}
+
 fn warnings() -> Vec<(String, String)> {
     let mut out = Vec::new();
     let first = |a: &Arg| a.literals.first().cloned();
@@ -174,6 +195,15 @@ fn warnings() -> Vec<(String, String)> {
             }
         }
     }
+    // The grader's own hints are ids (`GraderHint`) whose words
+    // `Hint::text` gives.
+    for m in arm_strings(
+        "grader/src/grade.rs",
+        "pub fn text(&self, f: &Fixture)",
+        "GraderHint::",
+    ) {
+        out.push(("grader/src/grade.rs".into(), m));
+    }
     let scaling = read("grader/src/scaling.rs");
     for a in calls(&scaling, "format!") {
         if let Some(m) = a.first().and_then(first) {
@@ -182,11 +212,14 @@ fn warnings() -> Vec<(String, String)> {
             }
         }
     }
-    let validate = read("crates/halfedge/src/validate.rs");
-    for a in calls(&validate, "fail") {
-        if let Some(m) = a.get(1).and_then(first) {
-            out.push(("crates/halfedge/src/validate.rs".into(), m));
-        }
+    // validate()'s checks are ids (`Check`) whose words `Check::message`
+    // gives.
+    for m in arm_strings(
+        "crates/halfedge/src/validate.rs",
+        "pub fn message(self)",
+        "Check::",
+    ) {
+        out.push(("crates/halfedge/src/validate.rs".into(), m));
     }
     for file in [
         "crates/halfedge/src/mesh.rs",
@@ -505,15 +538,23 @@ fn the_figures_are_the_generators_and_each_handout_links_its_own() {
             .skip(1)
             .map(|rest| &rest[..rest.find(')').unwrap()])
             .collect();
-        assert_eq!(
-            linked.len(),
-            svgs(&figures).len(),
-            "{path} links every figure"
+        // Drawn figures (make_figures.py's SVG) come in each language;
+        // screenshots of the report (PNG) show its English page in both.
+        let drawn = linked.iter().filter(|l| l.ends_with(".svg")).count();
+        assert_eq!(drawn, svgs(&figures).len(), "{path} links every figure");
+        assert!(
+            linked.contains(&"inspector.png"),
+            "{path} shows the inspector"
         );
         for l in linked {
             let full = format!("figures/{l}");
+            let own = if l.ends_with(".svg") {
+                prefix
+            } else {
+                "figures/"
+            };
             assert!(
-                full.starts_with(prefix) && !full[prefix.len()..].contains('/'),
+                full.starts_with(own) && !full[own.len()..].contains('/'),
                 "{path}: {full}"
             );
             assert!(
