@@ -24,6 +24,7 @@ pub mod handout;
 pub mod hostile;
 pub mod lookup;
 pub mod mutants;
+pub mod platforms;
 pub mod solution;
 pub mod tokens;
 
