@@ -326,10 +326,11 @@ fn grade_upload(places: &Places, options: &Options, log: &Log) -> Value {
         Ok(t) => t,
         Err(e) => return not_graded(format!("{rel}: {e}")),
     };
+    // Root's alone: the fixtures copied into it hold the hidden cases.
     let work = std::env::temp_dir().join(format!("meshlab-grading-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&work);
-    if let Err(e) = std::fs::create_dir_all(&work) {
-        return setup_error(log, &e.to_string(), max);
+    if let Err(e) = crate::private_dir(&work) {
+        return setup_error(log, &e, max);
     }
     let outcome = grade_in(
         places, options, &settings, &text, &work, counts, log, &remaining,

@@ -19,6 +19,20 @@ use std::path::Path;
 
 use grader::quoted::{self, Quoted};
 
+/// A new folder only this user may enter (it fails if the name is taken:
+/// nobody else's folder or link is ever used).
+pub fn private_dir(path: &Path) -> Result<(), String> {
+    let mut builder = std::fs::DirBuilder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::DirBuilderExt;
+        builder.mode(0o700);
+    }
+    builder
+        .create(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
 /// Copies the folder `from` into `to` (made if missing), files and folders.
 pub fn copy_tree(from: &Path, to: &Path) -> Result<(), String> {
     std::fs::create_dir_all(to).map_err(|e| format!("{}: {e}", to.display()))?;

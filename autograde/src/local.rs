@@ -82,7 +82,7 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
     };
     let work = std::env::temp_dir().join(format!("meshlab-local-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&work);
-    std::fs::create_dir_all(&work).map_err(|e| format!("{}: {e}", work.display()))?;
+    crate::private_dir(&work)?;
     let target = local.target.clone().unwrap_or_else(|| work.join("target"));
     let build = Build {
         lab: local.lab.clone(),
