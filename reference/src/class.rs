@@ -41,6 +41,7 @@ pub struct Submission {
 /// The entries of `dir`, each with its file or the reason it has none:
 /// `NAME.rs`, a folder (see [`find_lib_rs`]), or anything else (named as not
 /// a submission). Only names starting with `.` are left out (`.DS_Store`).
+/// Names are unique: entries that would share one keep their file names.
 pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
@@ -74,12 +75,23 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
             };
             (file_name.clone(), Err(why))
         };
-        out.push(Submission { name, lib_rs });
+        out.push((file_name, Submission { name, lib_rs }));
     }
     if out.is_empty() {
         return Err(format!("{}: no submissions found", dir.display()));
     }
-    Ok(out)
+    // One row and one set of reports per entry: where two entries would
+    // share a name (`bob.rs` and `bob/`), each keeps its whole file name.
+    let names: Vec<String> = out.iter().map(|(_, s)| s.name.clone()).collect();
+    Ok(out
+        .into_iter()
+        .map(|(file_name, mut s)| {
+            if names.iter().filter(|n| **n == s.name).count() > 1 {
+                s.name = file_name;
+            }
+            s
+        })
+        .collect())
 }
 
 /// How one submission did.
@@ -124,6 +136,9 @@ pub struct Options {
     pub build_seconds: Option<f64>,
     /// Print a progress line per submission on standard error.
     pub progress: bool,
+    /// Grade only these submissions (by row name) and merge their rows
+    /// into the reports folder's last summary; empty: all.
+    pub only: Vec<String>,
     /// Lock builds in with Landlock (off only to test the fallback a
     /// kernel without it gets).
     pub landlock: bool,
@@ -144,19 +159,6 @@ fn unpredictable_name(prefix: &str) -> String {
     name
 }
 
-/// A new folder only this user may enter.
-fn private_dir(path: &Path) -> Result<(), String> {
-    let mut builder = std::fs::DirBuilder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::DirBuilderExt;
-        builder.mode(0o700);
-    }
-    builder
-        .create(path)
-        .map_err(|e| format!("{}: {e}", path.display()))
-}
-
 /// A private copy of the class's `fixtures` with the fresh cases of the
 /// submission `lib_rs` added (its seed from the hidden cases' digest list
 /// and the file's bytes), and that seed.
@@ -165,7 +167,7 @@ fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(RemovedAtEnd, u64),
     let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
     let seed = crate::fresh::seed_for(&secret, &bytes);
     let dir = std::env::temp_dir().join(unpredictable_name("meshlab-fresh-"));
-    private_dir(&dir)?;
+    autograde::private_dir(&dir)?;
     let guard = RemovedAtEnd(vec![dir.clone()]);
     copy_keeping_times(fixtures, &dir)?;
     crate::fresh::write(&dir, seed, crate::solution::Weights::Warren)?;
@@ -327,7 +329,18 @@ pub fn grade_class(
     out: &Path,
     options: &Options,
 ) -> Result<Vec<Row>, String> {
-    let students = find_submissions(submissions)?;
+    let mut students = find_submissions(submissions)?;
+    if !options.only.is_empty() {
+        let known: Vec<&str> = students.iter().map(|s| s.name.as_str()).collect();
+        if let Some(missing) = options.only.iter().find(|n| !known.contains(&n.as_str())) {
+            return Err(format!(
+                "--only {missing}: no such submission in {} (there are: {})",
+                submissions.display(),
+                known.join(", ")
+            ));
+        }
+        students.retain(|s| options.only.contains(&s.name));
+    }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // Outside the lab (a copy may not land inside what it copies), under
@@ -335,8 +348,8 @@ pub fn grade_class(
     let scratch = std::env::temp_dir().join(unpredictable_name("meshlab-class-"));
     let fixtures = std::env::temp_dir().join(unpredictable_name("meshlab-fixtures-"));
     let _cleanup = RemovedAtEnd(vec![scratch.clone(), fixtures.clone()]);
-    private_dir(&scratch)?;
-    private_dir(&fixtures)?;
+    autograde::private_dir(&scratch)?;
+    autograde::private_dir(&fixtures)?;
     let template = scratch.join("template");
     let work = scratch.join("work");
     handout::copy_lab(root, &template, Purpose::Grading)?;
@@ -378,7 +391,7 @@ pub fn grade_class(
         }
         None => {
             let dir = std::env::temp_dir().join(unpredictable_name("meshlab-build-"));
-            private_dir(&dir)?;
+            autograde::private_dir(&dir)?;
             dir
         }
     };
@@ -524,30 +537,93 @@ pub fn grade_class(
         }
         rows.push(row);
     }
-    let mut csv = String::from("student,score,max_score,status");
+    // With --only, the other rows of the last run stay (summary.json
+    // holds them as numbers, exactly).
+    let summary = out.join("summary.json");
+    let mut all = if options.only.is_empty() {
+        Vec::new()
+    } else {
+        read_rows(&summary)?
+    };
+    all.retain(|r: &Row| !rows.iter().any(|n| n.name == r.name));
+    all.extend(rows.iter().cloned());
+    all.sort_by(|a, b| a.name.cmp(&b.name));
+    let json: Vec<serde_json::Value> = all.iter().map(Row::to_json).collect();
+    std::fs::write(&summary, pretty(&serde_json::Value::Array(json)))
+        .map_err(|e| format!("{}: {e}", summary.display()))?;
+    std::fs::write(out.join("summary.csv"), summary_csv(&all)).map_err(|e| e.to_string())?;
+    Ok(rows)
+}
+
+/// The rows `summary.json` holds (none when there is no such file).
+fn read_rows(path: &Path) -> Result<Vec<Row>, String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(Vec::new());
+    };
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    v.as_array()
+        .ok_or(format!("{}: not a list of rows", path.display()))?
+        .iter()
+        .map(|r| Row::from_json(r).ok_or(format!("{}: a row is not one: {r}", path.display())))
+        .collect()
+}
+
+impl Row {
+    fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "name": self.name, "score": self.score, "max": self.max, "status": self.status,
+            "functions": self.functions.map(|(p, of)| [p, of]),
+            "first_failure": self.first_failure, "seconds": self.seconds,
+        })
+    }
+
+    fn from_json(v: &serde_json::Value) -> Option<Row> {
+        let mut functions = [(0, 0); 4];
+        for (k, f) in v["functions"].as_array()?.iter().enumerate().take(4) {
+            functions[k] = (f[0].as_u64()? as usize, f[1].as_u64()? as usize);
+        }
+        Some(Row {
+            name: v["name"].as_str()?.to_string(),
+            score: v["score"].as_f64()?,
+            max: v["max"].as_f64()?,
+            status: v["status"].as_str()?.to_string(),
+            functions,
+            first_failure: v["first_failure"].as_str()?.to_string(),
+            seconds: v["seconds"].as_f64()?,
+        })
+    }
+}
+
+/// `summary.csv`, for spreadsheets and gradebooks: numbers in numeric
+/// columns (points and maximum per function, the percentage), the text
+/// ones made inert (see [`quoted::csv_field`]).
+pub fn summary_csv(rows: &[Row]) -> String {
+    let mut csv = String::from("student,score,max_score,percent,status");
     for stage in &STAGES {
-        csv.push(',');
-        csv.push_str(stage.column);
+        let _ = write!(csv, ",{0},{0}_max", stage.column);
     }
     csv.push_str(",first_failure\n");
-    for r in &rows {
-        let f = |k: usize| format!("{}/{}", r.functions[k].0, r.functions[k].1);
-        let _ = writeln!(
+    for r in rows {
+        let percent = if r.max > 0.0 {
+            100.0 * r.score / r.max
+        } else {
+            0.0
+        };
+        let _ = write!(
             csv,
-            "{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{percent:.1},{}",
             quoted::csv_field(&r.name),
             r.score,
             r.max,
-            r.status,
-            f(0),
-            f(1),
-            f(2),
-            f(3),
-            quoted::csv_field(&r.first_failure)
+            r.status
         );
+        for (passed, of) in r.functions {
+            let _ = write!(csv, ",{passed},{of}");
+        }
+        let _ = writeln!(csv, ",{}", quoted::csv_field(&r.first_failure));
     }
-    std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
-    Ok(rows)
+    csv
 }
 
 /// Grades one entry; an error here is the TA's (disk, cargo missing), never

@@ -199,6 +199,10 @@ enum Command {
         /// No progress lines.
         #[arg(short, long)]
         quiet: bool,
+        /// Regrade only these submissions (row names) and merge their rows
+        /// into the summary already in --out.
+        #[arg(long, value_name = "NAME", num_args = 1..)]
+        only: Vec<String>,
     },
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
     /// lab/ (the lab with hidden cases, without the solution). Zip DIR's
@@ -897,6 +901,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             bonus,
             no_fresh,
             quiet,
+            only,
         } => {
             for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
                 if !(value > 0.0 && value <= 86_400.0) {
@@ -920,6 +925,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 progress: !quiet,
                 grader_args: Vec::new(),
                 landlock: true,
+                only,
             };
             let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;
             for r in &rows {

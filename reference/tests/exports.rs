@@ -947,6 +947,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         &solution(),
     );
     write(&subs.join("bob/lab/crates/halfedge/src/lib.rs"), "broken {");
+    // Another bob, as a file: both keep a row and reports of their own.
+    write(&subs.join("bob.rs"), &stubs());
     write(&subs.join("carol.rs"), "pub fn flip_edge( {\n");
     std::fs::create_dir_all(subs.join("dave")).unwrap();
     write(&subs.join("notes.txt"), "grading notes");
@@ -1024,6 +1026,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             "=cmd()",
             "alice",
             "bob",
+            "bob.rs",
             "carol",
             "dave",
             "eve",
@@ -1199,24 +1202,35 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         assert!(results["score"].as_f64().is_some(), "{name}: {results}");
     }
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    // Numbers in numeric columns, for a spreadsheet or a gradebook.
     assert!(csv.starts_with(
-        "student,score,max_score,status,flip_edge,split_edge,in_sequence,loop_subdivide,first_failure\n"
+        "student,score,max_score,percent,status,flip_edge,flip_edge_max,split_edge,\
+         split_edge_max,in_sequence,in_sequence_max,loop_subdivide,loop_subdivide_max,\
+         first_failure\n"
     ));
     assert!(
-        csv.contains(&format!("\ncarol,0,{max},does not compile,0/")),
+        csv.contains(&format!(
+            "\ncarol,0,{max},0.0,does not compile,0,{},",
+            flips
+        )),
         "{csv}"
     );
     assert!(
-        csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
+        csv.contains(&format!("\nbob,{max},{max},100.0,passed,{0},{0},", flips)),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 19, "{csv}");
+    assert!(
+        csv.contains(&format!("\nbob.rs,0,{max},0.0,failed,0,{},", flips)),
+        "{csv}"
+    );
+    assert!(out.join("bob.rs.txt").is_file() && out.join("bob.txt").is_file());
+    assert_eq!(csv.lines().count(), 20, "{csv}");
     // The student's name is made inert for spreadsheets; the CR is shown,
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
     assert!(
         csv.lines()
-            .any(|l| l.starts_with("'=cmd(),") && l.contains(",failed,0/")),
+            .any(|l| l.starts_with("'=cmd(),") && l.contains(",failed,0,")),
         "{csv}"
     );
     assert!(
@@ -1292,11 +1306,11 @@ fn class_grading_keeps_the_ta_s_environment_from_the_build() {
         + counted("subdivide")
         + reference::fresh::counted(false).iter().sum::<usize>();
     assert!(
-        csv.contains(&format!("\nnina,0,{max},does not compile,")),
+        csv.contains(&format!("\nnina,0,{max},0.0,does not compile,")),
         "{csv}"
     );
     assert!(
-        csv.contains(&format!("\noscar,{max},{max},passed,")),
+        csv.contains(&format!("\noscar,{max},{max},100.0,passed,")),
         "{csv}"
     );
     let nina = std::fs::read_to_string(out.join("nina.log")).unwrap();
@@ -1502,6 +1516,44 @@ fn a_process_left_behind_is_swept_and_changes_no_later_grade() {
         "pat's grade changed after olga's submission"
     );
     assert_eq!(pat.status, "passed");
+
+    // Regrading pat alone merges his row into the summary: olga's stays.
+    let folder = dir.join("hostile");
+    let only = reference::class::Options {
+        only: vec!["pat".into()],
+        ..options.clone()
+    };
+    let again = reference::class::grade_class(
+        &root(),
+        &folder.join("submissions"),
+        &folder.join("out"),
+        &only,
+    )
+    .unwrap();
+    assert_eq!(again.len(), 1);
+    assert_eq!((again[0].name.as_str(), again[0].score), ("pat", pat.score));
+    let csv = std::fs::read_to_string(folder.join("out/summary.csv")).unwrap();
+    let names: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert_eq!(names, ["olga", "pat"], "{csv}");
+    let unknown = reference::class::Options {
+        only: vec!["nobody-here".into()],
+        ..options.clone()
+    };
+    let err = reference::class::grade_class(
+        &root(),
+        &folder.join("submissions"),
+        &folder.join("out"),
+        &unknown,
+    )
+    .unwrap_err();
+    assert!(
+        err.contains("--only nobody-here: no such submission") && err.contains("olga, pat"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

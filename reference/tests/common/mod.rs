@@ -175,5 +175,6 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         progress: false,
         grader_args: Vec::new(),
         landlock: true,
+        only: Vec::new(),
     }
 }
