@@ -4,7 +4,10 @@
 //! template at the same path each time so that cargo rebuilds only the
 //! student's crate and the grader; then graded within a time budget against
 //! the fixtures (hidden cases included) in a folder outside that copy. The
-//! reports land in one folder with a CSV summary.
+//! reports land in one folder with a CSV summary. Finding the file,
+//! building, grading stage by stage and sweeping what a submission left are
+//! the `autograde` crate's, the same code every platform runs; this module
+//! adds the class: the template, the fresh cases, the rows and reports.
 //!
 //! Compiling is running the student's code (`include_str!`, `env!`): every
 //! build goes through the grader's build launcher
@@ -17,29 +20,15 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use grader::build_sandbox::Outcome;
+use autograde::grade::{self, STAGES};
+use autograde::platform;
+use autograde::upload::{find_lib_rs, is_link};
+use grader::build_sandbox::{Build, Outcome};
 use grader::quoted::{self, Quoted};
 
 use crate::handout::{self, Purpose};
-
-/// The three functions and the sequence stage, in grading order: (stage,
-/// also the fixture kind; column name).
-const FUNCTIONS: [(&str, &str); 4] = [
-    ("flip", "flip_edge"),
-    ("split", "split_edge"),
-    ("sequence", "in_sequence"),
-    ("subdivide", "loop_subdivide"),
-];
-
-/// Folders of an upload that never hold the student's file.
-const SKIP_DIRS: [&str; 3] = ["target", ".git", "__MACOSX"];
-/// Seconds of a submission's budget kept from the grader's own (for its
-/// start and end): the deadline that kills it is the whole budget.
-const GRADER_MARGIN: f64 = 2.0;
-/// Crates of the lab other than the student's: their `lib.rs` is never taken.
-const OTHER_CRATES: [&str; 4] = ["halfedge", "grader", "reference", "crates"];
 
 /// One entry of the submissions folder.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -49,109 +38,10 @@ pub struct Submission {
     pub lib_rs: Result<PathBuf, String>,
 }
 
-/// Whether `path` is a symbolic link. A submission's links are never
-/// followed: one could name any file the TA can read (a hidden case), which
-/// the compiler would then quote in the student's report.
-fn is_link(path: &Path) -> bool {
-    std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
-}
-
-/// Every `.rs` file under `dir`, relative, shallowest first; symbolic
-/// links left out.
-fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir.join(rel)) else {
-        return;
-    };
-    let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    paths.sort();
-    for path in paths {
-        let name = path.file_name().unwrap_or_default().to_string_lossy();
-        let rel_path = rel.join(&*name);
-        if is_link(&path) {
-            continue;
-        }
-        if path.is_dir() {
-            if !name.starts_with('.') && !SKIP_DIRS.contains(&&*name) {
-                rust_files(dir, &rel_path, out);
-            }
-        } else if name.ends_with(".rs") {
-            out.push(rel_path);
-        }
-    }
-}
-
-/// The student's `lib.rs` inside an uploaded folder: `meshedit/src/lib.rs`
-/// at any depth (the workspace, or the workspace inside one folder), else a
-/// single `lib.rs` outside any other crate of the lab, else the folder's
-/// only Rust file. Never another crate's `lib.rs`.
-pub fn find_lib_rs(dir: &Path) -> Result<PathBuf, String> {
-    let mut found = Vec::new();
-    rust_files(dir, Path::new(""), &mut found);
-    let parts = |p: &PathBuf| -> Vec<String> {
-        p.components()
-            .map(|c| c.as_os_str().to_string_lossy().into_owned())
-            .collect()
-    };
-    let is_lib = |p: &&PathBuf| p.file_name().is_some_and(|n| n == "lib.rs");
-    let mut meshedit: Vec<&PathBuf> = found
-        .iter()
-        .filter(is_lib)
-        .filter(|p| parts(p).ends_with(&["meshedit".into(), "src".into(), "lib.rs".into()]))
-        .collect();
-    meshedit.sort_by_key(|p| (parts(p).len(), p.to_path_buf()));
-    match meshedit.as_slice() {
-        [one] => return Ok(dir.join(one)),
-        [a, b, ..] if parts(a).len() < parts(b).len() => return Ok(dir.join(a)),
-        [_, _, ..] => {
-            let list: Vec<String> = meshedit.iter().map(|p| p.display().to_string()).collect();
-            return Err(format!(
-                "several copies of meshedit/src/lib.rs: {}",
-                list.join(", ")
-            ));
-        }
-        [] => {}
-    }
-    let loose: Vec<&PathBuf> = found
-        .iter()
-        .filter(is_lib)
-        .filter(|p| {
-            let ps = parts(p);
-            !ps[..ps.len() - 1]
-                .iter()
-                .any(|c| OTHER_CRATES.contains(&c.as_str()))
-        })
-        .collect();
-    match loose.as_slice() {
-        [one] => return Ok(dir.join(one)),
-        [_, _, ..] => {
-            let list: Vec<String> = loose.iter().map(|p| p.display().to_string()).collect();
-            return Err(format!("several lib.rs files: {}", list.join(", ")));
-        }
-        [] => {}
-    }
-    if let [only] = found.as_slice() {
-        if parts(only).len() == 1 {
-            return Ok(dir.join(only));
-        }
-    }
-    let seen: Vec<String> = found
-        .iter()
-        .take(8)
-        .map(|p| p.display().to_string())
-        .collect();
-    Err(format!(
-        "no crates/meshedit/src/lib.rs inside (found: {})",
-        if seen.is_empty() {
-            "no .rs file".to_string()
-        } else {
-            seen.join(", ")
-        }
-    ))
-}
-
 /// The entries of `dir`, each with its file or the reason it has none:
 /// `NAME.rs`, a folder (see [`find_lib_rs`]), or anything else (named as not
 /// a submission). Only names starting with `.` are left out (`.DS_Store`).
+/// Names are unique: entries that would share one keep their file names.
 pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
@@ -171,7 +61,10 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
             let why = "a symbolic link: copy the submission itself".to_string();
             (name.to_string(), Err(why))
         } else if path.is_dir() {
-            (file_name.clone(), find_lib_rs(&path))
+            (
+                file_name.clone(),
+                find_lib_rs(&path).map_err(|e| e.message()),
+            )
         } else if let Some(stem) = file_name.strip_suffix(".rs") {
             (stem.to_string(), Ok(path.clone()))
         } else {
@@ -182,12 +75,23 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
             };
             (file_name.clone(), Err(why))
         };
-        out.push(Submission { name, lib_rs });
+        out.push((file_name, Submission { name, lib_rs }));
     }
     if out.is_empty() {
         return Err(format!("{}: no submissions found", dir.display()));
     }
-    Ok(out)
+    // One row and one set of reports per entry: where two entries would
+    // share a name (`bob.rs` and `bob/`), each keeps its whole file name.
+    let names: Vec<String> = out.iter().map(|(_, s)| s.name.clone()).collect();
+    Ok(out
+        .into_iter()
+        .map(|(file_name, mut s)| {
+            if names.iter().filter(|n| **n == s.name).count() > 1 {
+                s.name = file_name;
+            }
+            s
+        })
+        .collect())
 }
 
 /// How one submission did.
@@ -199,7 +103,7 @@ pub struct Row {
     /// `passed`, `failed`, `does not compile`, `no submission`,
     /// `out of time` or `grader error`.
     pub status: String,
-    /// Passed and counted cases per function, in [`FUNCTIONS`] order.
+    /// Passed and counted cases per function, in [`STAGES`] order.
     pub functions: [(usize, usize); 4],
     /// The first failed case and its first warning (or why it was not graded).
     pub first_failure: String,
@@ -232,37 +136,15 @@ pub struct Options {
     pub build_seconds: Option<f64>,
     /// Print a progress line per submission on standard error.
     pub progress: bool,
-}
-
-/// Counted cases per function in a fixtures folder.
-fn case_counts(fixtures: &Path, bonus: bool) -> [usize; 4] {
-    let mut counts = [0; 4];
-    let groups: &[&str] = if bonus {
-        &["lab", "hidden", "bonus"]
-    } else {
-        &["lab", "hidden"]
-    };
-    for group in groups {
-        for entry in std::fs::read_dir(fixtures.join(group))
-            .into_iter()
-            .flatten()
-        {
-            let Some(f) = entry
-                .ok()
-                .and_then(|e| std::fs::read_to_string(e.path()).ok())
-                .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-            else {
-                continue;
-            };
-            if let Some(i) = FUNCTIONS
-                .iter()
-                .position(|(stage, _)| f["operation"]["kind"] == *stage)
-            {
-                counts[i] += 1;
-            }
-        }
-    }
-    counts
+    /// Grade only these submissions (by row name) and merge their rows
+    /// into the reports folder's last summary; empty: all.
+    pub only: Vec<String>,
+    /// Lock builds in with Landlock (off only to test the fallback a
+    /// kernel without it gets).
+    pub landlock: bool,
+    /// More options for every grader run (tests: `--without-pid-namespace`,
+    /// as on a machine without PID namespaces).
+    pub grader_args: Vec<String>,
 }
 
 /// A name no one can guess: 128 bits from std's `RandomState`, whose keys
@@ -277,19 +159,6 @@ fn unpredictable_name(prefix: &str) -> String {
     name
 }
 
-/// A new folder only this user may enter.
-fn private_dir(path: &Path) -> Result<(), String> {
-    let mut builder = std::fs::DirBuilder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::DirBuilderExt;
-        builder.mode(0o700);
-    }
-    builder
-        .create(path)
-        .map_err(|e| format!("{}: {e}", path.display()))
-}
-
 /// A private copy of the class's `fixtures` with the fresh cases of the
 /// submission `lib_rs` added (its seed from the hidden cases' digest list
 /// and the file's bytes), and that seed.
@@ -298,7 +167,7 @@ fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(RemovedAtEnd, u64),
     let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
     let seed = crate::fresh::seed_for(&secret, &bytes);
     let dir = std::env::temp_dir().join(unpredictable_name("meshlab-fresh-"));
-    private_dir(&dir)?;
+    autograde::private_dir(&dir)?;
     let guard = RemovedAtEnd(vec![dir.clone()]);
     copy_keeping_times(fixtures, &dir)?;
     crate::fresh::write(&dir, seed, crate::solution::Weights::Warren)?;
@@ -340,99 +209,85 @@ fn copy_keeping_times(from: &Path, to: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Runs `cmd` in its own process group with its output in files, killing
-/// the whole group at `limit` and when it ends (stray children included).
-/// Returns the exit code, `None` when stopped at the limit.
-fn run_limited(
-    mut cmd: Command,
-    stdout: &Path,
-    stderr: &Path,
-    limit: Duration,
-) -> Result<Option<i32>, String> {
-    let file = |p: &Path| std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()));
-    cmd.stdin(Stdio::null())
-        .stdout(file(stdout)?)
-        .stderr(file(stderr)?);
-    #[cfg(unix)]
-    {
-        use std::os::unix::process::CommandExt;
-        cmd.process_group(0);
+/// Readies the builds to run as user `nobody` (root only, where Landlock
+/// is missing): the scratch and build folders passable (not listable),
+/// the target folder nobody's, and a toolchain nobody can run (a copy of
+/// hard links when the TA's is out of reach, as under `/root`). Returns
+/// that toolchain's root.
+fn for_nobody(
+    scratch: &Path,
+    build_dir: &Path,
+    target: &Path,
+    sysroot: &Path,
+) -> Result<PathBuf, String> {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::CommandExt;
+    let uid = autograde::process::nobody_uid().ok_or("there is no user nobody to build as")?;
+    for dir in [scratch, build_dir] {
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o711))
+            .map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    let mut child = cmd
-        .spawn()
-        .map_err(|e| format!("cannot run {:?}: {e}", cmd.get_program()))?;
-    let start = Instant::now();
-    let code = loop {
-        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
-            break Some(status.code().unwrap_or(-1));
-        }
-        if start.elapsed() >= limit {
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(20));
+    let chown = Command::new("chown")
+        .args(["-R", &format!("{uid}:{uid}")])
+        .arg(target)
+        .status()
+        .map_err(|e| format!("cannot run chown: {e}"))?;
+    if !chown.success() {
+        return Err(format!("chown -R nobody {} failed", target.display()));
+    }
+    let runs = |root: &Path| {
+        Command::new(root.join("bin/cargo"))
+            .arg("-V")
+            .current_dir("/")
+            .env_clear()
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .uid(uid)
+            .gid(uid)
+            .status()
+            .is_ok_and(|s| s.success())
     };
-    kill_group(child.id());
-    let _ = child.kill();
-    let _ = child.wait();
-    Ok(code)
-}
-
-#[cfg(unix)]
-fn kill_group(pid: u32) {
-    let _ = Command::new("kill")
-        .args(["-KILL", "--", &format!("-{pid}")])
-        .stderr(Stdio::null())
-        .status();
-}
-
-#[cfg(not(unix))]
-fn kill_group(_: u32) {}
-
-/// A locked-in build of the copy, through the launcher program.
-struct BuildJail {
-    build: grader::build_sandbox::Build,
-    launcher: PathBuf,
-}
-
-/// How a locked-in build went: the launcher's status and cargo's output.
-struct Built {
-    report: grader::build_sandbox::Report,
-    log: String,
-}
-
-impl BuildJail {
-    /// Runs the build, its output in `logs`; an error is the TA's (the
-    /// launcher missing), never the student's.
-    fn run(&self, logs: &Path) -> Result<Built, String> {
-        let _ = std::fs::remove_file(&self.build.status);
-        let mut cmd = Command::new(&self.launcher);
-        cmd.args(self.build.args()).env_clear();
-        let (out, err) = (logs.join("build.out"), logs.join("build.err"));
-        // The launcher keeps the time limit itself; this is for a launcher
-        // that hangs.
-        let limit = Duration::from_secs_f64(self.build.seconds + 30.0);
-        run_limited(cmd, &out, &err, limit)?;
-        let report = grader::build_sandbox::Report::read(&self.build.status)?;
-        let log = std::fs::read_to_string(&err).unwrap_or_default();
-        Ok(Built { report, log })
+    if runs(sysroot) {
+        return Ok(sysroot.to_path_buf());
     }
-}
-
-/// The toolchain's root, as the lab's `rust-toolchain.toml` chooses it.
-fn sysroot(lab: &Path) -> Result<PathBuf, String> {
-    let out = Command::new("rustc")
-        .args(["--print", "sysroot"])
-        .current_dir(lab)
-        .output()
-        .map_err(|e| format!("cannot run rustc: {e}"))?;
-    let text = String::from_utf8_lossy(&out.stdout).trim().to_string();
-    if !out.status.success() || text.is_empty() {
+    let copy = build_dir.join("toolchain");
+    let _ = std::fs::remove_dir_all(&copy);
+    std::fs::create_dir_all(&copy).map_err(|e| format!("{}: {e}", copy.display()))?;
+    std::fs::set_permissions(&copy, std::fs::Permissions::from_mode(0o755))
+        .map_err(|e| e.to_string())?;
+    for part in ["bin", "lib", "libexec", "etc"] {
+        let from = sysroot.join(part);
+        if !from.is_dir() {
+            continue;
+        }
+        let linked = Command::new("cp")
+            .args(["-a", "-l"])
+            .arg(&from)
+            .arg(copy.join(part))
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !linked {
+            let _ = std::fs::remove_dir_all(copy.join(part));
+            let copied = Command::new("cp")
+                .arg("-a")
+                .arg(&from)
+                .arg(copy.join(part))
+                .status()
+                .is_ok_and(|s| s.success());
+            if !copied {
+                return Err(format!("cannot copy {} for user nobody", from.display()));
+            }
+        }
+    }
+    if !runs(&copy) {
         return Err(format!(
-            "rustc --print sysroot failed: {}",
-            String::from_utf8_lossy(&out.stderr).trim()
+            "user nobody cannot run {}/bin/cargo, even from {}",
+            sysroot.display(),
+            copy.display()
         ));
     }
-    Ok(PathBuf::from(text))
+    Ok(copy)
 }
 
 /// Removes what the previous submission's build left in the shared target
@@ -465,52 +320,6 @@ fn forget_submission(target: &Path) {
     }
 }
 
-/// Cargo's output without its progress lines.
-fn compiler_text(stderr: &str) -> String {
-    stderr
-        .lines()
-        .filter(|l| {
-            let l = l.trim_start();
-            !["Compiling ", "Finished ", "Blocking ", "Locking "]
-                .iter()
-                .any(|p| l.starts_with(p))
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
-        .trim()
-        .to_string()
-}
-
-/// Text of the student's making (a compiler's errors quote their code, a
-/// reason may name their files) as shown in reports: its first line on one
-/// line, the rest under `| `, control characters escaped.
-fn shown(why: &str) -> String {
-    match why.split_once('\n') {
-        Some((head, rest)) => format!(
-            "{}\n{}",
-            quoted::one_line(head),
-            Quoted::new(rest.trim_start_matches('\n')).block("")
-        ),
-        None => quoted::one_line(why),
-    }
-}
-
-/// Results in Gradescope's format for a submission that was not graded.
-fn zero_results(message: &str, max: usize) -> String {
-    serde_json::to_string_pretty(&serde_json::json!({
-        "score": 0.0,
-        "output": message,
-        "tests": [{
-            "name": "your code compiles and can be graded",
-            "score": 0.0,
-            "max_score": max as f64,
-            "status": "failed",
-            "output": message,
-        }],
-    }))
-    .expect("JSON")
-}
-
 /// Grades every entry of `submissions` into `out`: `NAME.txt` (a short
 /// report), `NAME.log` (the build and every case in full),
 /// `NAME.results.json` (Gradescope's format) and `summary.csv`.
@@ -520,7 +329,18 @@ pub fn grade_class(
     out: &Path,
     options: &Options,
 ) -> Result<Vec<Row>, String> {
-    let students = find_submissions(submissions)?;
+    let mut students = find_submissions(submissions)?;
+    if !options.only.is_empty() {
+        let known: Vec<&str> = students.iter().map(|s| s.name.as_str()).collect();
+        if let Some(missing) = options.only.iter().find(|n| !known.contains(&n.as_str())) {
+            return Err(format!(
+                "--only {missing}: no such submission in {} (there are: {})",
+                submissions.display(),
+                known.join(", ")
+            ));
+        }
+        students.retain(|s| options.only.contains(&s.name));
+    }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // Outside the lab (a copy may not land inside what it copies), under
@@ -528,8 +348,8 @@ pub fn grade_class(
     let scratch = std::env::temp_dir().join(unpredictable_name("meshlab-class-"));
     let fixtures = std::env::temp_dir().join(unpredictable_name("meshlab-fixtures-"));
     let _cleanup = RemovedAtEnd(vec![scratch.clone(), fixtures.clone()]);
-    private_dir(&scratch)?;
-    private_dir(&fixtures)?;
+    autograde::private_dir(&scratch)?;
+    autograde::private_dir(&fixtures)?;
     let template = scratch.join("template");
     let work = scratch.join("work");
     handout::copy_lab(root, &template, Purpose::Grading)?;
@@ -545,7 +365,7 @@ pub fn grade_class(
             std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
         }
     }
-    let mut counts = case_counts(&fixtures, options.bonus);
+    let mut counts = grade::counted(&fixtures, options.bonus);
     if options.fresh {
         // Fresh cases are single operations: flip, split, subdivide.
         for (k, n) in [0, 1, 3]
@@ -571,7 +391,7 @@ pub fn grade_class(
         }
         None => {
             let dir = std::env::temp_dir().join(unpredictable_name("meshlab-build-"));
-            private_dir(&dir)?;
+            autograde::private_dir(&dir)?;
             dir
         }
     };
@@ -620,24 +440,24 @@ pub fn grade_class(
             ));
         }
     }
-    let sysroot = sysroot(&template)?;
-    let build = |seconds: f64, status: PathBuf| BuildJail {
-        build: grader::build_sandbox::Build {
-            lab: work.clone(),
-            vendor: vendor.clone(),
-            sysroot: sysroot.clone(),
-            target: target.clone(),
-            memory: options.build_memory,
-            seconds,
-            status,
-            drop_user: false,
-            landlock: true,
-        },
-        launcher: options.launcher.clone(),
+    let mut sysroot = autograde::local::sysroot(&template)?;
+    let mut drop_user = false;
+    let build = |seconds: f64, status: PathBuf, sysroot: &Path, drop_user: bool| Build {
+        lab: work.clone(),
+        vendor: vendor.clone(),
+        sysroot: sysroot.to_path_buf(),
+        target: target.clone(),
+        memory: options.build_memory,
+        seconds,
+        status,
+        drop_user,
+        landlock: options.landlock,
     };
-    let exe = target
-        .join("debug")
-        .join(format!("grader{}", std::env::consts::EXE_SUFFIX));
+    let exe = grade::programs_dir(&target).join(format!(
+        "{}{}",
+        grade::PROGRAMS[0],
+        std::env::consts::EXE_SUFFIX
+    ));
 
     // Build the lab once, with no budget: the dependencies' first build
     // (a minute or more) must not count against the first student. Locked
@@ -649,19 +469,41 @@ pub fn grade_class(
     copy_keeping_times(&template, &work)?;
     let logs = scratch.join("logs");
     std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
-    let warm = build(3600.0, logs.join("warm.status")).run(&logs)?;
-    if warm.report.outcome != grader::build_sandbox::Outcome::Built {
-        return Err(format!(
-            "the lab itself does not build ({}):\n{}",
-            warm.report.failure().unwrap_or_default(),
-            warm.log
-        ));
-    }
-    if warm.report.landlock == 0 && options.progress {
-        eprintln!(
-            "warning: this kernel has no Landlock: students' builds can read every file you \
-             can (run class grading as a user who can read only the lab, or on a newer kernel)"
-        );
+    let warm_build = |sysroot: &Path, drop_user: bool| {
+        let b = build(3600.0, logs.join("warm.status"), sysroot, drop_user);
+        let warm = grade::build(&b, &options.launcher, &logs)?;
+        if warm.report.outcome != Outcome::Built {
+            return Err(format!(
+                "the lab itself does not build ({}):\n{}",
+                warm.report.failure().unwrap_or_default(),
+                warm.log
+            ));
+        }
+        Ok(warm)
+    };
+    let mut warm = warm_build(&sysroot, false)?;
+    if warm.report.landlock == 0 {
+        if autograde::process::is_root() {
+            // No Landlock to keep the build from the TA's files: the next
+            // strongest, a user of its own (`nobody`, who can read only
+            // what everyone may) building a private copy of the lab (the
+            // hidden cases out of it, in a folder only root may enter).
+            sysroot = for_nobody(&scratch, &build_dir, &target, &sysroot)?;
+            drop_user = true;
+            warm = warm_build(&sysroot, true)?;
+            if options.progress {
+                eprintln!(
+                    "this kernel has no Landlock: students' builds run as user nobody, on a \
+                     private copy of the lab (they can read what every user may)"
+                );
+            }
+        } else if options.progress {
+            eprintln!(
+                "warning: this kernel has no Landlock: students' builds can read every file you \
+                 can (run class grading as root, which builds as user nobody, or as a user who \
+                 can read only the lab, or on a newer kernel)"
+            );
+        }
     }
     if options.progress {
         eprintln!("{}", warm.report.protections());
@@ -672,7 +514,7 @@ pub fn grade_class(
     for (i, s) in students.iter().enumerate() {
         let t0 = Instant::now();
         let seconds = options.build_seconds.unwrap_or(options.budget.max(60.0));
-        let jail = build(seconds, logs.join("build.status"));
+        let jail = build(seconds, logs.join("build.status"), &sysroot, drop_user);
         let row = grade_one(s, &template, &jail, &fixtures, &out, &exe, counts, options)?;
         let row = Row {
             seconds: t0.elapsed().as_secs_f64(),
@@ -695,27 +537,93 @@ pub fn grade_class(
         }
         rows.push(row);
     }
-    let mut csv = String::from(
-        "student,score,max_score,status,flip_edge,split_edge,in_sequence,loop_subdivide,first_failure\n",
-    );
-    for r in &rows {
-        let f = |k: usize| format!("{}/{}", r.functions[k].0, r.functions[k].1);
-        let _ = writeln!(
+    // With --only, the other rows of the last run stay (summary.json
+    // holds them as numbers, exactly).
+    let summary = out.join("summary.json");
+    let mut all = if options.only.is_empty() {
+        Vec::new()
+    } else {
+        read_rows(&summary)?
+    };
+    all.retain(|r: &Row| !rows.iter().any(|n| n.name == r.name));
+    all.extend(rows.iter().cloned());
+    all.sort_by(|a, b| a.name.cmp(&b.name));
+    let json: Vec<serde_json::Value> = all.iter().map(Row::to_json).collect();
+    std::fs::write(&summary, pretty(&serde_json::Value::Array(json)))
+        .map_err(|e| format!("{}: {e}", summary.display()))?;
+    std::fs::write(out.join("summary.csv"), summary_csv(&all)).map_err(|e| e.to_string())?;
+    Ok(rows)
+}
+
+/// The rows `summary.json` holds (none when there is no such file).
+fn read_rows(path: &Path) -> Result<Vec<Row>, String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(Vec::new());
+    };
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    v.as_array()
+        .ok_or(format!("{}: not a list of rows", path.display()))?
+        .iter()
+        .map(|r| Row::from_json(r).ok_or(format!("{}: a row is not one: {r}", path.display())))
+        .collect()
+}
+
+impl Row {
+    fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "name": self.name, "score": self.score, "max": self.max, "status": self.status,
+            "functions": self.functions.map(|(p, of)| [p, of]),
+            "first_failure": self.first_failure, "seconds": self.seconds,
+        })
+    }
+
+    fn from_json(v: &serde_json::Value) -> Option<Row> {
+        let mut functions = [(0, 0); 4];
+        for (k, f) in v["functions"].as_array()?.iter().enumerate().take(4) {
+            functions[k] = (f[0].as_u64()? as usize, f[1].as_u64()? as usize);
+        }
+        Some(Row {
+            name: v["name"].as_str()?.to_string(),
+            score: v["score"].as_f64()?,
+            max: v["max"].as_f64()?,
+            status: v["status"].as_str()?.to_string(),
+            functions,
+            first_failure: v["first_failure"].as_str()?.to_string(),
+            seconds: v["seconds"].as_f64()?,
+        })
+    }
+}
+
+/// `summary.csv`, for spreadsheets and gradebooks: numbers in numeric
+/// columns (points and maximum per function, the percentage), the text
+/// ones made inert (see [`quoted::csv_field`]).
+pub fn summary_csv(rows: &[Row]) -> String {
+    let mut csv = String::from("student,score,max_score,percent,status");
+    for stage in &STAGES {
+        let _ = write!(csv, ",{0},{0}_max", stage.column);
+    }
+    csv.push_str(",first_failure\n");
+    for r in rows {
+        let percent = if r.max > 0.0 {
+            100.0 * r.score / r.max
+        } else {
+            0.0
+        };
+        let _ = write!(
             csv,
-            "{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{percent:.1},{}",
             quoted::csv_field(&r.name),
             r.score,
             r.max,
-            r.status,
-            f(0),
-            f(1),
-            f(2),
-            f(3),
-            quoted::csv_field(&r.first_failure)
+            r.status
         );
+        for (passed, of) in r.functions {
+            let _ = write!(csv, ",{passed},{of}");
+        }
+        let _ = writeln!(csv, ",{}", quoted::csv_field(&r.first_failure));
     }
-    std::fs::write(out.join("summary.csv"), csv).map_err(|e| e.to_string())?;
-    Ok(rows)
+    csv
 }
 
 /// Grades one entry; an error here is the TA's (disk, cargo missing), never
@@ -724,7 +632,7 @@ pub fn grade_class(
 fn grade_one(
     s: &Submission,
     template: &Path,
-    jail: &BuildJail,
+    jail: &Build,
     fixtures: &Path,
     out: &Path,
     exe: &Path,
@@ -745,16 +653,18 @@ fn grade_one(
         first_failure: String::new(),
         seconds: 0.0,
     };
+    // `why` is the student's message (its first line is the gist), `log`
+    // the build's whole output.
     let not_graded = |row: &mut Row, status: &str, why: &str, log: &str| -> Result<(), String> {
         row.status = status.into();
         // The compiler's first error rather than the heading above it.
         row.first_failure = why
             .lines()
+            .map(|l| l.trim_start_matches("| "))
             .find(|l| l.starts_with("error"))
             .or_else(|| why.lines().next())
             .unwrap_or("")
             .to_string();
-        let why = shown(why);
         write(
             "txt",
             &format!(
@@ -762,33 +672,37 @@ fn grade_one(
                 quoted::one_line(&s.name)
             ),
         )?;
-        write("log", &shown(log))?;
-        write("results.json", &zero_results(&why, max))
+        write("log", &autograde::shown(log))?;
+        let results = platform::gradescope(&platform::Outcome::NotGraded {
+            message: why.to_string(),
+            counts,
+        });
+        write("results.json", &pretty(&results))
     };
     let lib_rs = match &s.lib_rs {
         Ok(p) => p,
         Err(why) => {
-            not_graded(&mut row, "no submission", why, why)?;
+            not_graded(&mut row, "no submission", &autograde::shown(why), why)?;
             return Ok(row);
         }
     };
 
     // A pristine copy for each student: nothing a previous submission did
     // to its copy survives, nor its compiled crate in the target folder.
-    let work = jail.build.lab.as_path();
+    let work = jail.lab.as_path();
     let _ = std::fs::remove_dir_all(work);
     copy_keeping_times(template, work)?;
     std::fs::copy(lib_rs, work.join("crates/meshedit/src/lib.rs"))
         .map_err(|e| format!("{}: {e}", lib_rs.display()))?;
-    forget_submission(&jail.build.target);
+    forget_submission(&jail.target);
 
     // Outside the copy the student's code runs in.
     let logs = work.with_file_name("logs");
     let _ = std::fs::remove_dir_all(&logs);
     std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
-    let built = jail.run(&logs)?;
+    let built = grade::build(jail, &options.launcher, &logs)?;
     let build_log = format!("{}\n{}", built.report.protections(), built.log);
-    let compiler = compiler_text(&built.log);
+    let compiler = built.compiler();
     match built.report.outcome {
         Outcome::Built => {}
         Outcome::NotLockedIn => {
@@ -796,14 +710,14 @@ fn grade_one(
         }
         Outcome::OutOfMemory | Outcome::OutOfTime => {
             let message = built.report.failure().unwrap_or_default();
-            let why = format!("does not compile: {message}\n\n{compiler}");
+            let why = autograde::does_not_compile(Some(&message), &compiler);
             not_graded(&mut row, "does not compile", &why, &build_log)?;
             // The limit it hit, rather than the compiler's last words.
             row.first_failure = message;
             return Ok(row);
         }
         Outcome::Failed => {
-            let why = format!("does not compile:\n\n{compiler}");
+            let why = autograde::does_not_compile(None, &compiler);
             not_graded(&mut row, "does not compile", &why, &build_log)?;
             return Ok(row);
         }
@@ -820,58 +734,38 @@ fn grade_one(
         .as_ref()
         .map_or(fixtures, |(dir, _)| dir.0[0].as_path());
 
-    let results = logs.join("results.json");
-    let mut grade = Command::new(exe);
-    // The grader counts its child runs (a passing case runs once per
-    // labelling) and shortens the per-call limit so that all of them fit
-    // in the budget; the deadline below only stops what ignores limits.
-    let grading_budget = (options.budget - GRADER_MARGIN).max(0.1);
-    grade
-        .args(["--no-color", "--timeout", &options.timeout.to_string()])
-        .args(["--budget", &format!("{grading_budget:.2}")])
-        .arg("--fixtures")
-        .arg(fixtures)
-        .args(["--format", "json", "--gradescope"])
-        .arg(&results)
-        .current_dir(work)
-        // Nothing of the TA's: with CARGO set (as `cargo run -p reference`
-        // sets it) the grader would rebuild the student's crate itself,
-        // outside the build's lock-in and with the TA's environment.
-        .env_clear()
-        .env("PATH", "/usr/bin:/bin");
-    if options.bonus {
-        grade.arg("--bonus");
-    }
-    let (json_out, grade_err) = (logs.join("report.json"), logs.join("grader.err"));
-    let code = run_limited(
-        grade,
-        &json_out,
-        &grade_err,
-        Duration::from_secs_f64(options.budget),
-    )?;
-    let report: Option<serde_json::Value> = std::fs::read_to_string(&json_out)
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok());
-    let (report, results_text) = match (code, report, std::fs::read_to_string(&results)) {
-        (Some(0 | 1), Some(r), Ok(t)) => (r, t),
-        (None, _, _) => {
-            let why = format!(
-                "grading took longer than {} s in all: a function loops or waits",
-                options.budget
-            );
-            not_graded(&mut row, "out of time", &why, &build_log)?;
-            return Ok(row);
-        }
-        (code, _, _) => {
-            let err = std::fs::read_to_string(&grade_err).unwrap_or_default();
-            let why = format!("the grader failed (exit {code:?}): {}", err.trim());
-            not_graded(&mut row, "grader error", &why, &why)?;
-            return Ok(row);
-        }
+    // One grader run per stage, the budget shared out by the runs each
+    // makes; each under a reaper that sweeps what the submission left.
+    let grading = grade::Grading {
+        exe: exe.to_path_buf(),
+        cwd: work.to_path_buf(),
+        fixtures: fixtures.to_path_buf(),
+        timeout: options.timeout,
+        bonus: options.bonus,
+        logs: logs.clone(),
+        reaper: options.launcher.clone(),
+        extra_args: options.grader_args.clone(),
+    };
+    let start = Instant::now();
+    let left = || options.budget - start.elapsed().as_secs_f64();
+    let stages = grade::grade_stages(&grading, &left);
+    let notes = if compiler.contains("warning") {
+        vec![format!(
+            "Your code compiles with warnings:\n\n{}",
+            Quoted::new(&*compiler).block("")
+        )]
+    } else {
+        Vec::new()
+    };
+    let outcome = platform::Outcome::Graded {
+        stages,
+        notes,
+        bonus: options.bonus,
+    };
+    let platform::Outcome::Graded { stages, .. } = &outcome else {
+        unreachable!("graded just above")
     };
 
-    let cases = report["cases"].as_array().cloned().unwrap_or_default();
-    let bonus = report["bonus_counted"].as_bool().unwrap_or(false);
     let mut full = String::new();
     let fresh_line = fresh.as_ref().map(|(_, seed)| {
         format!(
@@ -882,15 +776,16 @@ fn grade_one(
     if let Some(line) = &fresh_line {
         let _ = writeln!(full, "{line}\n");
     }
-    let plan = &report["plan"];
-    if let (Some(limit), Some(runs)) = (plan["timeout"].as_f64(), plan["runs"].as_u64()) {
+    for run in stages {
         let _ = writeln!(
             full,
-            "time: each call may take {limit} s ({runs} runs, {} side by side, in a budget of {} s)\n",
-            plan["workers"].as_u64().unwrap_or(1),
-            plan["budget"].as_f64().unwrap_or(options.budget)
+            "time: {}: each call may take {} in a budget of {:.1} s",
+            run.stage.function,
+            run.limit(),
+            run.budget
         );
     }
+    full.push('\n');
     if !compiler.is_empty() {
         let _ = writeln!(
             full,
@@ -898,64 +793,75 @@ fn grade_one(
             Quoted::new(&*compiler).block("")
         );
     }
-    let mut counted = [(0, 0); 4];
     let mut failures = Vec::new();
-    for c in &cases {
-        let name = c["name"].as_str().unwrap_or("?");
-        let passed = c["passed"].as_bool().unwrap_or(false);
-        let is_counted = c["group"] != "bonus" || bonus;
-        let _ = writeln!(
-            full,
-            "== {name} ({}, {}): {}",
-            c["group"].as_str().unwrap_or("?"),
-            c["stage"].as_str().unwrap_or("?"),
-            if passed { "passed" } else { "FAILED" }
-        );
-        // Student text comes as lists of lines; shown the grader's way.
-        let lines_of = |v: &serde_json::Value| -> Option<Quoted> {
-            let lines = v.as_array()?;
-            let text: Vec<&str> = lines.iter().filter_map(|l| l.as_str()).collect();
-            Some(Quoted::new(text.join("\n")))
-        };
-        for e in c["entries"].as_array().into_iter().flatten() {
-            let level = e["level"].as_str().unwrap_or("info");
-            let text = quoted::one_line(e["text"].as_str().unwrap_or(""));
-            let quote = lines_of(&e["quote"]);
-            let (line, below) = quoted::quoting(&text, quote.as_ref(), "        ");
-            match level {
-                "detail" => {
-                    let _ = writeln!(full, "        {line}");
-                }
-                _ => {
-                    let _ = writeln!(full, "[{}] {line}", quoted::one_line(level));
-                }
+    for run in stages {
+        if !run.graded() {
+            let why = run.why_not_graded();
+            let _ = writeln!(full, "== {}: not graded: {why}", run.stage.function);
+            if !run.error.trim().is_empty() {
+                full.push_str(&Quoted::new(run.error.trim()).block("    "));
             }
-            full.push_str(&below);
-        }
-        if let Some(printed) = lines_of(&c["output"]).filter(|o| !o.is_blank()) {
-            full.push_str(&printed.block("    "));
-        }
-        if !is_counted {
+            failures.push(why);
             continue;
         }
-        let stage = c["stage"].as_str().unwrap_or("");
-        if let Some(k) = FUNCTIONS.iter().position(|(s, _)| *s == stage) {
-            counted[k].1 += 1;
-            if passed {
-                counted[k].0 += 1;
+        let bonus = run
+            .report
+            .as_ref()
+            .is_some_and(|r| r["bonus_counted"] == true);
+        for c in run.case_reports() {
+            let name = c["name"].as_str().unwrap_or("?");
+            let passed = c["passed"].as_bool().unwrap_or(false);
+            let _ = writeln!(
+                full,
+                "== {name} ({}, {}): {}",
+                c["group"].as_str().unwrap_or("?"),
+                c["stage"].as_str().unwrap_or("?"),
+                if passed { "passed" } else { "FAILED" }
+            );
+            // Student text comes as lists of lines; shown the grader's way.
+            let lines_of = |v: &serde_json::Value| -> Option<Quoted> {
+                let lines = v.as_array()?;
+                let text: Vec<&str> = lines.iter().filter_map(|l| l.as_str()).collect();
+                Some(Quoted::new(text.join("\n")))
+            };
+            for e in c["entries"].as_array().into_iter().flatten() {
+                let level = e["level"].as_str().unwrap_or("info");
+                let text = quoted::one_line(e["text"].as_str().unwrap_or(""));
+                let quote = lines_of(&e["quote"]);
+                let (line, below) = quoted::quoting(&text, quote.as_ref(), "        ");
+                match level {
+                    "detail" => {
+                        let _ = writeln!(full, "        {line}");
+                    }
+                    _ => {
+                        let _ = writeln!(full, "[{}] {line}", quoted::one_line(level));
+                    }
+                }
+                full.push_str(&below);
+            }
+            if let Some(printed) = lines_of(&c["output"]).filter(|o| !o.is_blank()) {
+                full.push_str(&printed.block("    "));
+            }
+            let is_counted = c["group"] != "bonus" || bonus;
+            if is_counted && !passed {
+                let first = c["first_warning"].as_str().unwrap_or("failed");
+                failures.push(quoted::one_line(&format!("{name}: {first}")));
             }
         }
-        if !passed {
-            let first = c["first_warning"].as_str().unwrap_or("failed");
-            failures.push(quoted::one_line(&format!("{name}: {first}")));
-        }
     }
-    let passed: usize = counted.iter().map(|c| c.0).sum();
-    let total: usize = counted.iter().map(|c| c.1).sum();
+    let counted = outcome.per_function();
+    let (passed, total) = (outcome.score(), outcome.max());
     row.functions = counted;
     row.score = passed as f64;
     row.max = total as f64;
-    row.status = if passed == total { "passed" } else { "failed" }.into();
+    row.status = if passed == total {
+        "passed"
+    } else if stages.iter().any(|r| r.code.is_none()) {
+        "out of time"
+    } else {
+        "failed"
+    }
+    .into();
     row.first_failure = failures.first().cloned().unwrap_or_default();
 
     let mut short = format!(
@@ -963,8 +869,12 @@ fn grade_one(
         quoted::one_line(&s.name),
         row.status
     );
-    for (k, (_, function)) in FUNCTIONS.iter().enumerate() {
-        let _ = writeln!(short, "  {function:<15} {}/{}", counted[k].0, counted[k].1);
+    for (k, stage) in STAGES.iter().enumerate() {
+        let _ = writeln!(
+            short,
+            "  {:<15} {}/{}",
+            stage.column, counted[k].0, counted[k].1
+        );
     }
     if let Some(line) = &fresh_line {
         let _ = writeln!(short, "  {line}");
@@ -984,6 +894,10 @@ fn grade_one(
     }
     write("txt", &short)?;
     write("log", &full)?;
-    write("results.json", &results_text)?;
+    write("results.json", &pretty(&platform::gradescope(&outcome)))?;
     Ok(row)
+}
+
+fn pretty(v: &serde_json::Value) -> String {
+    serde_json::to_string_pretty(v).expect("JSON")
 }

@@ -16,10 +16,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Paths (relative to the root, `/`-separated) never copied.
-pub const EXCLUDED: [&str; 10] = [
+pub const EXCLUDED: [&str; 11] = [
     ".git",
     "target",
     "reference",
+    // The autograder (no solution, but the hidden cases' handling and the
+    // platforms' grading): the Gradescope bundle's lab keeps it.
+    "autograde",
     // The developers' full test run (`cargo xtask test`) and its alias: it
     // runs the TA-only tests; students run `cargo test --workspace`.
     "xtask",
@@ -61,7 +64,7 @@ pub struct Exported {
 }
 
 fn excluded(rel: &str, purpose: Purpose) -> bool {
-    let kept_for_grading = purpose == Purpose::Grading && rel == "fixtures/hidden";
+    let kept_for_grading = purpose == Purpose::Grading && GRADING_ONLY.contains(&rel);
     (EXCLUDED.contains(&rel) && !kept_for_grading) || rel.ends_with(".snap.new")
 }
 
@@ -70,10 +73,13 @@ fn io<T>(result: std::io::Result<T>, path: &Path) -> Result<T, String> {
 }
 
 /// Workspace members that stay with the TAs.
-const TA_MEMBERS: [&str; 2] = ["reference", "xtask"];
+const TA_MEMBERS: [&str; 3] = ["reference", "xtask", "autograde"];
+/// What a grading copy keeps of [`EXCLUDED`] (and of [`TA_MEMBERS`]): the
+/// hidden cases, and the autograder that grades in it.
+const GRADING_ONLY: [&str; 2] = ["fixtures/hidden", "autograde"];
 
 /// The members of the workspace manifest `text`, without the TAs' ones.
-fn student_members(text: &str) -> Result<Vec<String>, String> {
+fn student_members(text: &str, purpose: Purpose) -> Result<Vec<String>, String> {
     let line = text
         .lines()
         .find(|l| l.trim_start().starts_with("members"))
@@ -86,7 +92,10 @@ fn student_members(text: &str) -> Result<Vec<String>, String> {
     Ok(inside
         .split(',')
         .map(|m| m.trim().trim_matches('"').to_string())
-        .filter(|m| !m.is_empty() && !TA_MEMBERS.contains(&m.as_str()))
+        .filter(|m| {
+            let kept = purpose == Purpose::Grading && GRADING_ONLY.contains(&m.as_str());
+            !m.is_empty() && (kept || !TA_MEMBERS.contains(&m.as_str()))
+        })
         .collect())
 }
 
@@ -108,8 +117,8 @@ fn workspace_uses(manifest: &str, out: &mut BTreeSet<String>) {
 
 /// The root manifest without the `reference` member and without the
 /// workspace dependencies that only it used (`insta`, for one).
-fn student_manifest(root: &Path, text: &str) -> Result<String, String> {
-    let members = student_members(text)?;
+fn student_manifest(root: &Path, text: &str, purpose: Purpose) -> Result<String, String> {
+    let members = student_members(text, purpose)?;
     let mut used = BTreeSet::new();
     for m in &members {
         let path = root.join(m).join("Cargo.toml");
@@ -184,7 +193,7 @@ fn copy_tree(
         let read = || io(std::fs::read_to_string(&path), &path);
         let handout = purpose == Purpose::Handout;
         match rel_str.as_str() {
-            "Cargo.toml" => write(&student_manifest(root, &read()?)?)?,
+            "Cargo.toml" => write(&student_manifest(root, &read()?, purpose)?)?,
             "README.md" if handout => write(STUDENT_README)?,
             "docs/architecture.md" if handout => write(STUDENT_ARCHITECTURE)?,
             _ if handout && rel_str.ends_with(".md") => {

@@ -30,6 +30,7 @@ pub mod hostile;
 pub mod lookup;
 pub mod mutants;
 pub mod overview;
+pub mod platforms;
 pub mod similarity;
 pub mod solution;
 pub mod tokens;

@@ -199,6 +199,10 @@ enum Command {
         /// No progress lines.
         #[arg(short, long)]
         quiet: bool,
+        /// Regrade only these submissions (row names) and merge their rows
+        /// into the summary already in --out.
+        #[arg(long, value_name = "NAME", num_args = 1..)]
+        only: Vec<String>,
     },
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
     /// lab/ (the lab with hidden cases, without the solution). Zip DIR's
@@ -221,6 +225,15 @@ enum Command {
         #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u16).range(0..=256))]
         fresh_sets: u16,
     },
+    /// Write Classroom 50's autograder into DIR (new or empty): autograder.py
+    /// and lab/ (visible cases only: Classroom 50 publishes these files).
+    /// Copy DIR's contents to CLASSROOM/autograders/ASSIGNMENT/ in the
+    /// classroom50 config repository.
+    Classroom50 { dir: PathBuf },
+    /// Write PrairieLearn's external grader into DIR (new or empty): run.sh,
+    /// lab/ and fixtures/ (hidden cases included). Copy DIR to the course's
+    /// serverFilesCourse/meshlab/.
+    Prairielearn { dir: PathBuf },
     /// List the implementations `grade` knows: correct ones and mistakes.
     Implementations,
     /// Run an implementation from the catalogue on any OBJ, as a student's
@@ -286,6 +299,8 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
 fn main() -> ExitCode {
     grader::sandbox::launch_if_asked();
     grader::build_sandbox::launch_if_asked();
+    // Class grading runs each stage's grader under this program as a reaper.
+    autograde::process::reap_if_asked();
     let cli = Cli::parse();
     match run(cli.command) {
         Ok(code) => code,
@@ -864,6 +879,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 "wrote {}: zip its contents (setup.sh at the top) and upload them",
                 dir.display()
             );
+            println!("{}", gradescope_limit(&dir, budget, timeout)?);
             Ok(ExitCode::SUCCESS)
         }
         Command::Fresh { seed, dir, weights } => {
@@ -885,6 +901,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             bonus,
             no_fresh,
             quiet,
+            only,
         } => {
             for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
                 if !(value > 0.0 && value <= 86_400.0) {
@@ -906,6 +923,9 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 build_seconds: None,
                 fresh: !no_fresh,
                 progress: !quiet,
+                grader_args: Vec::new(),
+                landlock: true,
+                only,
             };
             let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;
             for r in &rows {
@@ -921,6 +941,24 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             Ok(ExitCode::SUCCESS)
         }
+        Command::Classroom50 { dir } => {
+            reference::platforms::classroom50(&lab_root(), &dir)?;
+            println!(
+                "wrote {}: copy its contents to CLASSROOM/autograders/ASSIGNMENT/ in your \
+                 classroom50 repository",
+                dir.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Prairielearn { dir } => {
+            reference::platforms::prairielearn(&lab_root(), &dir)?;
+            println!(
+                "wrote {}: copy it to serverFilesCourse/meshlab/ and set the question's \
+                 entrypoint to /grade/serverFilesCourse/meshlab/run.sh",
+                dir.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Implementations => {
             for e in mutants::catalogue() {
                 println!("{:<28} {}", e.name, e.what);
@@ -928,6 +966,56 @@ fn run(command: Command) -> Result<ExitCode, String> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// Child runs if every case passes in a fixtures folder, as the grader
+/// counts them (`--list --format json`, run by this program).
+fn child_runs(fixtures: &Path) -> Result<usize, String> {
+    let out = std::process::Command::new(std::env::current_exe().map_err(|e| e.to_string())?)
+        .args(["grade", "--list", "--format", "json", "--fixtures"])
+        .arg(fixtures)
+        .output()
+        .map_err(|e| e.to_string())?;
+    let list: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).map_err(|e| {
+        format!(
+            "cannot count the runs in {}: {e}: {}",
+            fixtures.display(),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    })?;
+    Ok(list.iter().filter_map(|c| c["runs"].as_u64()).sum::<u64>() as usize)
+}
+
+/// What per-call limit a Gradescope bundle's budget gives, as the
+/// autograder shares it out (issue 16): the budget less its reserve, a
+/// build of about a minute (Gradescope's one-CPU machine) and each
+/// stage's start, over every child run of a correct solution (the lab's
+/// cases and one fresh set).
+fn gradescope_limit(dir: &Path, budget: f64, timeout: f64) -> Result<String, String> {
+    const BUILD: f64 = 60.0;
+    let mut runs = child_runs(&dir.join("lab/fixtures"))?;
+    let fresh = dir.join("fresh/0");
+    if fresh.is_dir() {
+        runs += child_runs(&fresh)?;
+    }
+    let left = budget - autograde::gradescope::RESERVE - BUILD - 4.0 * 2.0;
+    let per_call = left / runs.max(1) as f64 - 0.05;
+    let limit = per_call.min(timeout);
+    Ok(if per_call <= 0.05 {
+        format!(
+            "per-call limit: none left: {runs} child runs in {budget} s less about {:.0} s for \
+             the build and the autograder: raise --budget",
+            budget - left
+        )
+    } else {
+        format!(
+            "per-call limit: about {limit:.2} s a call ({runs} child runs if every case passes, \
+             in the {budget} s budget less about {:.0} s for a one-minute build and the \
+             autograder; --timeout {timeout} s caps it); the log of each upload says the limit \
+             it got",
+            budget - left
+        )
+    })
 }
 
 fn fixtures(root: &Path, check: bool, weights: Weights) -> Result<ExitCode, String> {

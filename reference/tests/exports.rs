@@ -229,6 +229,8 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
     let all = reference::handout::list_files(&dir).unwrap();
     for gone in [
         "reference/",
+        // The autograder: no solution, but never the students'.
+        "autograde/",
         "fixtures/hidden/",
         "docs/ta-guide.md",
         ".git/",
@@ -289,6 +291,10 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
         !manifest.contains("insta"),
         "TA-only dependency: {manifest}"
     );
+    assert!(
+        !manifest.contains("autograde"),
+        "the autograder is no member: {manifest}"
+    );
     let student = std::fs::read_to_string(dir.join("crates/meshedit/src/lib.rs")).unwrap();
     assert_eq!(student.matches("todo!(").count(), 3, "the three stubs");
 
@@ -297,6 +303,7 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
     let lab_lock = std::fs::read_to_string(root().join("Cargo.lock")).unwrap();
     let lock = std::fs::read_to_string(dir.join("Cargo.lock")).unwrap();
     assert!(!lock.contains("name = \"insta\""));
+    assert!(!lock.contains("name = \"autograde\""));
     for block in lock.split("\n\n").filter(|b| b.contains("[[package]]")) {
         assert!(lab_lock.contains(block.trim()), "changed: {block}");
     }
@@ -548,6 +555,10 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let lab = bundle.join("lab");
     assert!(lab.join("fixtures/hidden").is_dir(), "hidden cases graded");
     assert!(!lab.join("reference").exists(), "no solution on the server");
+    assert!(
+        lab.join("autograde/src/gradescope.rs").is_file(),
+        "the autograder goes along"
+    );
     let setup = std::fs::read_to_string(bundle.join("setup.sh")).unwrap();
     let version = reference::handout::rust_version(&root()).unwrap();
     assert!(
@@ -577,6 +588,11 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         .arg("--setup")
         .env("AUTOGRADER", &ag)
         .env("CARGO_TARGET_DIR", &build_target)
+        // The autograder's own build, kept between runs of this test.
+        .env(
+            "MESHLAB_AUTOGRADE_TARGET",
+            build_target.with_file_name("autograde-target"),
+        )
         .output()
         .unwrap();
     let setup_log = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -931,6 +947,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         &solution(),
     );
     write(&subs.join("bob/lab/crates/halfedge/src/lib.rs"), "broken {");
+    // Another bob, as a file: both keep a row and reports of their own.
+    write(&subs.join("bob.rs"), &stubs());
     write(&subs.join("carol.rs"), "pub fn flip_edge( {\n");
     std::fs::create_dir_all(subs.join("dave")).unwrap();
     write(&subs.join("notes.txt"), "grading notes");
@@ -1008,6 +1026,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
             "=cmd()",
             "alice",
             "bob",
+            "bob.rs",
             "carol",
             "dave",
             "eve",
@@ -1122,7 +1141,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert_eq!(row("dave").status, "no submission");
     assert!(row("dave")
         .first_failure
-        .contains("no crates/meshedit/src/lib.rs inside"));
+        .contains("No crates/meshedit/src/lib.rs in your upload"));
     assert_eq!(row("notes.txt").status, "no submission");
     // The compile-time attacks: no more than a compile error, named.
     let refused = |name: &str, why: &str| {
@@ -1183,24 +1202,35 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         assert!(results["score"].as_f64().is_some(), "{name}: {results}");
     }
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    // Numbers in numeric columns, for a spreadsheet or a gradebook.
     assert!(csv.starts_with(
-        "student,score,max_score,status,flip_edge,split_edge,in_sequence,loop_subdivide,first_failure\n"
+        "student,score,max_score,percent,status,flip_edge,flip_edge_max,split_edge,\
+         split_edge_max,in_sequence,in_sequence_max,loop_subdivide,loop_subdivide_max,\
+         first_failure\n"
     ));
     assert!(
-        csv.contains(&format!("\ncarol,0,{max},does not compile,0/")),
+        csv.contains(&format!(
+            "\ncarol,0,{max},0.0,does not compile,0,{},",
+            flips
+        )),
         "{csv}"
     );
     assert!(
-        csv.contains(&format!("\nbob,{max},{max},passed,{0}/{0},", flips)),
+        csv.contains(&format!("\nbob,{max},{max},100.0,passed,{0},{0},", flips)),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 19, "{csv}");
+    assert!(
+        csv.contains(&format!("\nbob.rs,0,{max},0.0,failed,0,{},", flips)),
+        "{csv}"
+    );
+    assert!(out.join("bob.rs.txt").is_file() && out.join("bob.txt").is_file());
+    assert_eq!(csv.lines().count(), 20, "{csv}");
     // The student's name is made inert for spreadsheets; the CR is shown,
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
     assert!(
         csv.lines()
-            .any(|l| l.starts_with("'=cmd(),") && l.contains(",failed,0/")),
+            .any(|l| l.starts_with("'=cmd(),") && l.contains(",failed,0,")),
         "{csv}"
     );
     assert!(
@@ -1276,11 +1306,11 @@ fn class_grading_keeps_the_ta_s_environment_from_the_build() {
         + counted("subdivide")
         + reference::fresh::counted(false).iter().sum::<usize>();
     assert!(
-        csv.contains(&format!("\nnina,0,{max},does not compile,")),
+        csv.contains(&format!("\nnina,0,{max},0.0,does not compile,")),
         "{csv}"
     );
     assert!(
-        csv.contains(&format!("\noscar,{max},{max},passed,")),
+        csv.contains(&format!("\noscar,{max},{max},100.0,passed,")),
         "{csv}"
     );
     let nina = std::fs::read_to_string(out.join("nina.log")).unwrap();
@@ -1388,5 +1418,195 @@ fn without_landlock_dev_zero_meets_the_memory_cap_by_name() {
     );
     assert!(report.protections().contains("Landlock off"), "{report:?}");
     assert_ne!(out.status.code(), Some(0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The model solution whose `flip_edge` first leaves a process behind: in
+/// a session of its own, its parent gone, named `name`, sleeping for ever.
+fn leaves_a_process(name: &str) -> String {
+    solution().replace("pub fn flip_edge(", "pub fn flip_edge_model(")
+        + &format!(
+            r#"
+extern "C" {{
+    fn fork() -> i32;
+    fn setsid() -> i32;
+    fn prctl(option: i32, arg2: *const u8, arg3: u64, arg4: u64, arg5: u64) -> i32;
+}}
+static FORKED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+pub fn flip_edge(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {{
+    if !FORKED.swap(true, std::sync::atomic::Ordering::SeqCst) {{
+        // SAFETY: the new processes only name themselves and sleep.
+        unsafe {{
+            if fork() == 0 {{
+                setsid();
+                if fork() == 0 {{
+                    prctl(15, b"{name}\0".as_ptr(), 0, 0, 0);
+                    loop {{
+                        std::thread::sleep(std::time::Duration::from_secs(1));
+                    }}
+                }}
+                std::process::exit(0);
+            }}
+        }}
+    }}
+    flip_edge_model(mesh, e)
+}}
+"#
+        )
+}
+
+/// Processes whose name (`/proc/PID/comm`) is `name`.
+fn named_processes(name: &str) -> Vec<String> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .flatten()
+        .filter(|e| std::fs::read_to_string(e.path().join("comm")).is_ok_and(|c| c.trim() == name))
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect()
+}
+
+#[test]
+fn a_process_left_behind_is_swept_and_changes_no_later_grade() {
+    let _turn = take_turn();
+    let name = "meshlab-olga";
+    let dir = scratch("class-orphan");
+    // As on a machine without PID namespaces (where nothing ends a case's
+    // processes but the sweeps): olga's flip_edge leaves a process behind
+    // in each case; pat, graded after her, is correct.
+    let options = reference::class::Options {
+        grader_args: vec!["--without-pid-namespace".into()],
+        ..class_options(2.0, 120.0)
+    };
+    let grade = |subs: &[(&str, String)], out: &str| {
+        let folder = dir.join(out).join("submissions");
+        for (file, text) in subs {
+            write(&folder.join(file), text);
+        }
+        reference::class::grade_class(&root(), &folder, &dir.join(out).join("out"), &options)
+            .unwrap()
+    };
+    let control = grade(&[("pat.rs", solution())], "control");
+    let rows = grade(
+        &[("olga.rs", leaves_a_process(name)), ("pat.rs", solution())],
+        "hostile",
+    );
+    let left = named_processes(name);
+    for pid in &left {
+        let _ = Command::new("kill").args(["-KILL", pid]).status();
+    }
+    assert_eq!(
+        left,
+        Vec::<String>::new(),
+        "olga's processes outlived her grading"
+    );
+    let olga_log = std::fs::read_to_string(dir.join("hostile/out/olga.log")).unwrap();
+    assert_eq!(rows[0].name, "olga");
+    // Her code is correct apart from what it leaves: her grade is the
+    // solution's, so the attack ran and cost nobody anything.
+    assert_eq!(rows[0].score, rows[0].max, "{:?}\n{olga_log}", rows[0]);
+    let (pat, pat_alone) = (&rows[1], &control[0]);
+    assert_eq!(
+        (pat.score, pat.max, &pat.status, pat.functions),
+        (
+            pat_alone.score,
+            pat_alone.max,
+            &pat_alone.status,
+            pat_alone.functions
+        ),
+        "pat's grade changed after olga's submission"
+    );
+    assert_eq!(pat.status, "passed");
+
+    // Regrading pat alone merges his row into the summary: olga's stays.
+    let folder = dir.join("hostile");
+    let only = reference::class::Options {
+        only: vec!["pat".into()],
+        ..options.clone()
+    };
+    let again = reference::class::grade_class(
+        &root(),
+        &folder.join("submissions"),
+        &folder.join("out"),
+        &only,
+    )
+    .unwrap();
+    assert_eq!(again.len(), 1);
+    assert_eq!((again[0].name.as_str(), again[0].score), ("pat", pat.score));
+    let csv = std::fs::read_to_string(folder.join("out/summary.csv")).unwrap();
+    let names: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert_eq!(names, ["olga", "pat"], "{csv}");
+    let unknown = reference::class::Options {
+        only: vec!["nobody-here".into()],
+        ..options.clone()
+    };
+    let err = reference::class::grade_class(
+        &root(),
+        &folder.join("submissions"),
+        &folder.join("out"),
+        &unknown,
+    )
+    .unwrap_err();
+    assert!(
+        err.contains("--only nobody-here: no such submission") && err.contains("olga, pat"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn without_landlock_class_builds_run_as_nobody_on_a_private_copy() {
+    // Where the kernel has no Landlock (forced off here), class grading run
+    // as root falls back to building as user nobody: the TA's own files
+    // are out of the build's reach, and the protections line says why.
+    if !is_root() {
+        skip("building as nobody needs root");
+        return;
+    }
+    let _turn = take_turn();
+    let dir = scratch("class-no-landlock");
+    let subs = dir.join("submissions");
+    let ta_token = format!("TA-HOME-TOKEN-NL-{}", std::process::id());
+    let ta_file = TaFile::new(&ta_token);
+    write(
+        &subs.join("ken.rs"),
+        &embedding(ta_file.0.to_str().unwrap()),
+    );
+    write(&subs.join("pat.rs"), &solution());
+    let out = dir.join("out");
+    let options = reference::class::Options {
+        landlock: false,
+        ..class_options(2.0, 120.0)
+    };
+    let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
+    let ken_log = std::fs::read_to_string(out.join("ken.log")).unwrap();
+    assert_eq!(
+        rows[0].status, "does not compile",
+        "{:?}\n{ken_log}",
+        rows[0]
+    );
+    assert!(
+        ken_log.contains(&format!(
+            "couldn't read `{}`: Permission denied",
+            ta_file.0.display()
+        )),
+        "{ken_log}"
+    );
+    assert!(ken_log.contains("Landlock off"), "{ken_log}");
+    assert!(ken_log.contains(", user nobody"), "{ken_log}");
+    assert!(
+        !all_reports(&out).contains(&ta_token),
+        "the TA's file leaked"
+    );
+    drop(ta_file);
+    let pat = &rows[1];
+    assert_eq!(
+        (pat.score, pat.status.as_str()),
+        (pat.max, "passed"),
+        "{pat:?}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

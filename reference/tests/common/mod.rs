@@ -173,5 +173,8 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         build_seconds: None,
         fresh: true,
         progress: false,
+        grader_args: Vec::new(),
+        landlock: true,
+        only: Vec::new(),
     }
 }
