@@ -109,6 +109,9 @@ pub struct Row {
     pub first_failure: String,
     /// Seconds spent on this submission.
     pub seconds: f64,
+    /// Every case the grader ran and whether it passed (for the overview's
+    /// pass rates); empty when nothing was graded.
+    pub cases: Vec<crate::overview::CaseResult>,
 }
 
 /// How to grade a class.
@@ -145,6 +148,10 @@ pub struct Options {
     /// More options for every grader run (tests: `--without-pid-namespace`,
     /// as on a machine without PID namespaces).
     pub grader_args: Vec<String>,
+    /// Submissions are git repositories: grade each one's last commit
+    /// before this date (anything `git rev-list --before` takes), read out
+    /// without checking anything out (see [`crate::deadline`]).
+    pub before: Option<String>,
 }
 
 /// A name no one can guess: 128 bits from std's `RandomState`, whose keys
@@ -339,7 +346,6 @@ pub fn grade_class(
                 known.join(", ")
             ));
         }
-        students.retain(|s| options.only.contains(&s.name));
     }
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
@@ -353,6 +359,20 @@ pub fn grade_class(
     let template = scratch.join("template");
     let work = scratch.join("work");
     handout::copy_lab(root, &template, Purpose::Grading)?;
+    let mut commits = String::new();
+    if let Some(before) = &options.before {
+        commits = at_deadline(
+            &mut students,
+            submissions,
+            before,
+            &scratch.join("snapshots"),
+        )?;
+    }
+    // The whole class for the similarity hints, the ones asked for graded.
+    let everyone = students.clone();
+    if !options.only.is_empty() {
+        students.retain(|s| options.only.contains(&s.name));
+    }
     // The fixtures graded against leave the copy the students' code is
     // built in: the hidden ones are moved out, the others copied.
     for group in ["lab", "bonus", "hidden"] {
@@ -552,7 +572,84 @@ pub fn grade_class(
     std::fs::write(&summary, pretty(&serde_json::Value::Array(json)))
         .map_err(|e| format!("{}: {e}", summary.display()))?;
     std::fs::write(out.join("summary.csv"), summary_csv(&all)).map_err(|e| e.to_string())?;
+    if options.before.is_some() {
+        std::fs::write(out.join("commits.csv"), commits).map_err(|e| e.to_string())?;
+    }
+    // Hints for the TA over the whole class (every entry of the folder,
+    // also with --only), and the page that shows the class at a glance.
+    let stubs = std::fs::read_to_string(template.join("crates/meshedit/src/lib.rs"))
+        .map_err(|e| format!("the lab's stubs: {e}"))?;
+    let pairs = similar_submissions(&everyone, &stubs);
+    std::fs::write(out.join("similarity.csv"), crate::similarity::csv(&pairs))
+        .map_err(|e| e.to_string())?;
+    let overview: Vec<crate::overview::Student> = all
+        .iter()
+        .map(|r| crate::overview::Student {
+            name: r.name.clone(),
+            score: r.score,
+            max: r.max,
+            status: r.status.clone(),
+            first_failure: r.first_failure.clone(),
+            cases: r.cases.clone(),
+            report: Some(format!("{}.txt", r.name)),
+        })
+        .collect();
+    std::fs::write(
+        out.join("overview.html"),
+        crate::overview::page("Class overview", &overview, &pairs),
+    )
+    .map_err(|e| e.to_string())?;
     Ok(rows)
+}
+
+/// `--before`: each submission becomes its repository's last commit before
+/// the deadline, copied out into `into` (an entry that is no repository,
+/// or has no commit by then, gets a row saying so). Returns `commits.csv`.
+fn at_deadline(
+    students: &mut [Submission],
+    submissions: &Path,
+    before: &str,
+    into: &Path,
+) -> Result<String, String> {
+    std::fs::create_dir_all(into).map_err(|e| format!("{}: {e}", into.display()))?;
+    let mut csv = String::from("student,commit,date\n");
+    for (i, s) in students.iter_mut().enumerate() {
+        let repo = submissions.join(&s.name);
+        if !crate::deadline::is_repository(&repo) {
+            s.lib_rs = Err(format!(
+                "not a git repository: --before {before} grades the last commit before the \
+                 deadline, and this entry has no history"
+            ));
+            continue;
+        }
+        match crate::deadline::snapshot_before(&repo, before, &into.join(i.to_string())) {
+            Ok(snap) => {
+                let _ = writeln!(
+                    csv,
+                    "{},{},{}",
+                    quoted::csv_field(&s.name),
+                    snap.commit,
+                    quoted::csv_field(&snap.date)
+                );
+                s.lib_rs = find_lib_rs(&into.join(i.to_string())).map_err(|e| e.message());
+            }
+            Err(why) => s.lib_rs = Err(why),
+        }
+    }
+    Ok(csv)
+}
+
+/// The similarity hints over every submission whose file can be read (at
+/// the deadline's commit with `--before`).
+fn similar_submissions(students: &[Submission], stubs: &str) -> Vec<crate::similarity::Pair> {
+    let files: Vec<(String, String)> = students
+        .iter()
+        .filter_map(|s| {
+            let text = std::fs::read_to_string(s.lib_rs.as_ref().ok()?).ok()?;
+            Some((s.name.clone(), text))
+        })
+        .collect();
+    crate::similarity::similar_pairs(&files, stubs, crate::similarity::THRESHOLD)
 }
 
 /// The rows `summary.json` holds (none when there is no such file).
@@ -575,6 +672,8 @@ impl Row {
             "name": self.name, "score": self.score, "max": self.max, "status": self.status,
             "functions": self.functions.map(|(p, of)| [p, of]),
             "first_failure": self.first_failure, "seconds": self.seconds,
+            "cases": self.cases.iter().map(|c| serde_json::json!([c.name, c.function, c.passed]))
+                .collect::<Vec<_>>(),
         })
     }
 
@@ -591,6 +690,19 @@ impl Row {
             functions,
             first_failure: v["first_failure"].as_str()?.to_string(),
             seconds: v["seconds"].as_f64()?,
+            // Absent from a summary written before the overview existed.
+            cases: v["cases"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(|c| {
+                    Some(crate::overview::CaseResult {
+                        name: c[0].as_str()?.to_string(),
+                        function: c[1].as_str()?.to_string(),
+                        passed: c[2].as_bool()?,
+                    })
+                })
+                .collect(),
         })
     }
 }
@@ -652,6 +764,7 @@ fn grade_one(
         functions: counts.map(|n| (0, n)),
         first_failure: String::new(),
         seconds: 0.0,
+        cases: Vec::new(),
     };
     // `why` is the student's message (its first line is the gist), `log`
     // the build's whole output.
@@ -811,6 +924,11 @@ fn grade_one(
         for c in run.case_reports() {
             let name = c["name"].as_str().unwrap_or("?");
             let passed = c["passed"].as_bool().unwrap_or(false);
+            row.cases.push(crate::overview::CaseResult {
+                name: name.to_string(),
+                function: run.stage.function.to_string(),
+                passed,
+            });
             let _ = writeln!(
                 full,
                 "== {name} ({}, {}): {}",

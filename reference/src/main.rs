@@ -203,6 +203,11 @@ enum Command {
         /// into the summary already in --out.
         #[arg(long, value_name = "NAME", num_args = 1..)]
         only: Vec<String>,
+        /// Submissions are git repositories (one per student): grade each
+        /// one's last commit before DATE ("2026-12-01 23:59 +0100"), read
+        /// out without checking anything out; commits.csv names them.
+        #[arg(long, value_name = "DATE")]
+        before: Option<String>,
     },
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
     /// lab/ (the lab with hidden cases, without the solution). Zip DIR's
@@ -902,6 +907,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             no_fresh,
             quiet,
             only,
+            before,
         } => {
             for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
                 if !(value > 0.0 && value <= 86_400.0) {
@@ -926,6 +932,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 grader_args: Vec::new(),
                 landlock: true,
                 only,
+                before,
             };
             let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;
             for r in &rows {

@@ -11,7 +11,10 @@
 //! Byte-identical files come first, then pairs by shared fraction.
 //!
 //! These are hints for a person to look at, never a score change: two
-//! correct `flip_edge`s written from the same table can look alike.
+//! correct `flip_edge`s written from the same table can look alike. And
+//! like MOSS's `-m`, code more than half the class shares counts as common:
+//! a source most of a class copied (a leaked solution) shows as every
+//! submission failing the same way, not as pairs.
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;

@@ -1254,6 +1254,118 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{log}"
     );
     assert!(log.contains("    | \\u{1b}[2J\\u{d}grade.rs:1"), "{log}");
+
+    // The class at a glance: the rows with full marks in the top tenth,
+    // the stubs' first failure (alice and bob.rs) counted twice, every
+    // name escaped.
+    let page = std::fs::read_to_string(out.join("overview.html")).unwrap();
+    let full = rows.iter().filter(|r| r.score == r.max).count();
+    assert!(full >= 1, "bob has full marks");
+    assert!(
+        page.contains(&format!("19 submissions; mean"))
+            && page.contains(&format!("; {full} with full marks")),
+        "{page}"
+    );
+    let top_tenth = rows.iter().filter(|r| r.score >= 0.9 * r.max).count();
+    assert!(
+        page.contains(&format!("data-bin=\"9\" data-count=\"{top_tenth}\"")),
+        "{page}"
+    );
+    let failures = &page[page
+        .find("<table id=\"failures\">")
+        .expect("a failures table")..];
+    let top: usize = failures["<table id=\"failures\"><tr><th>students</th><th>first failure</th></tr><tr><td class=\"num\">".len()..]
+        .split('<')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(top >= 2, "{failures}");
+    assert!(!page.contains("<script"), "no student text became markup");
+    // Similarity hints: eve, frank, judy and ken wrap the same embedding
+    // code around another path (strings do not count), so every pair of
+    // them is listed; the model solution itself, which 11 of these 19
+    // files carry, is more than half the class and counts as common (as
+    // MOSS's -m does), so bob and mallory are no pair for it.
+    let similar = std::fs::read_to_string(out.join("similarity.csv")).unwrap();
+    for pair in [
+        "eve,frank,no,100.0",
+        "eve,ken,no,100.0",
+        "judy,ken,no,100.0",
+    ] {
+        assert!(
+            similar.lines().any(|l| l.starts_with(pair)),
+            "{pair}: {similar}"
+        );
+    }
+    assert!(!similar.contains("bob,mallory"), "{similar}");
+    assert!(
+        page.contains("<td>eve</td><td>frank</td>"),
+        "the overview lists them"
+    );
+    assert!(
+        !similar.contains("alice,bob.rs"),
+        "untouched stubs are no pair: {similar}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `class --before DATE` on repositories: the commit before the deadline is
+/// graded (the stubs), not the solution pushed after it; a plain file has
+/// no history and gets a row that says so.
+#[test]
+fn class_before_grades_the_last_commit_before_the_deadline() {
+    let _turn = take_turn();
+    let dir = scratch("class-before");
+    let subs = dir.join("submissions");
+    let repo = subs.join("alice");
+    let git = |date: &str, args: &[&str]| {
+        let out = Command::new("git")
+            .args(args)
+            .current_dir(&repo)
+            .env("GIT_CONFIG_NOSYSTEM", "1")
+            .env("GIT_CONFIG_GLOBAL", "/dev/null")
+            .env("GIT_AUTHOR_NAME", "alice")
+            .env("GIT_AUTHOR_EMAIL", "alice@example.org")
+            .env("GIT_COMMITTER_NAME", "alice")
+            .env("GIT_COMMITTER_EMAIL", "alice@example.org")
+            .env("GIT_AUTHOR_DATE", date)
+            .env("GIT_COMMITTER_DATE", date)
+            .output()
+            .expect("git runs");
+        assert!(out.status.success(), "git {args:?}: {out:?}");
+        String::from_utf8_lossy(&out.stdout).trim().to_string()
+    };
+    std::fs::create_dir_all(&repo).unwrap();
+    git("2026-11-20T10:00:00Z", &["init", "-q"]);
+    write(&repo.join("crates/meshedit/src/lib.rs"), &stubs());
+    git("2026-11-30T10:00:00Z", &["add", "-A"]);
+    git("2026-11-30T10:00:00Z", &["commit", "-q", "-m", "on time"]);
+    let on_time = git("2026-11-30T10:00:00Z", &["rev-parse", "HEAD"]);
+    write(&repo.join("crates/meshedit/src/lib.rs"), &solution());
+    git("2026-12-03T10:00:00Z", &["commit", "-q", "-am", "late"]);
+    write(&subs.join("bob.rs"), &solution());
+    let out = dir.join("out");
+    let options = reference::class::Options {
+        before: Some("2026-12-01T23:59:00Z".into()),
+        fresh: false,
+        ..class_options(1.0, 60.0)
+    };
+    let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
+    let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
+    assert_eq!(row("alice").score, 0.0, "the late solution is not graded");
+    assert_eq!(row("alice").status, "failed");
+    assert_eq!(row("bob").status, "no submission");
+    assert!(
+        row("bob").first_failure.contains("not a git repository"),
+        "{:?}",
+        row("bob")
+    );
+    let commits = std::fs::read_to_string(out.join("commits.csv")).unwrap();
+    assert!(
+        commits.contains(&format!("\nalice,{on_time},2026-11-30T10:00:00")),
+        "{commits}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -176,5 +176,6 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         grader_args: Vec::new(),
         landlock: true,
         only: Vec::new(),
+        before: None,
     }
 }
