@@ -6,9 +6,14 @@
 //!   hold the grader's pipes, nor multiply the memory cap. Nor can it
 //!   leave its session or process group (`setsid`, `setpgid`).
 //! - Sockets of any kind (UDP, Unix sockets by path: Landlock covers only TCP
-//!   and abstract sockets) and `io_uring` (which can make sockets without a
-//!   system call of its own).
-//! - System V and POSIX IPC (shared memory outlives the process and the cap).
+//!   and abstract sockets; socket pairs, whose buffers are kernel memory no
+//!   cap counts) and `io_uring` (which can make sockets without a system
+//!   call of its own).
+//! - System V and POSIX IPC, every call (shared memory outlives the process
+//!   and the cap; objects others made are found by index without `*get`).
+//! - A file's mode, owner, times and extended attributes (`chmod`,
+//!   `chown`, `utimensat`, `setxattr`... and their variants): Landlock
+//!   guards opening a file, not its metadata.
 //! - Reaching another process: signals other than to itself (`kill`,
 //!   `tgkill`, `rt_sigqueueinfo`... only with its own pid, `tkill` and
 //!   pidfds not at all, `F_SETOWN`/`FIOSETOWN`, which aim `SIGIO`), its
@@ -91,16 +96,56 @@ mod filter {
         SockFilter { code, jt, jf, k }
     }
 
+    /// Calls newer than the C library's headers (the same number on every
+    /// architecture since 5.1's common table).
+    const FCHMODAT2: libc::c_long = 452;
+    const SETXATTRAT: libc::c_long = 463;
+    const REMOVEXATTRAT: libc::c_long = 466;
+
     /// The system calls refused outright.
     fn refused() -> Vec<libc::c_long> {
         let mut calls = vec![
-            // Sockets, IPC, io_uring.
+            // Sockets (a pair needs no `socket`, and buffers kernel memory
+            // no cap counts), IPC, io_uring.
             libc::SYS_socket,
+            libc::SYS_socketpair,
             libc::SYS_io_uring_setup,
+            // IPC, every call: objects others made are found by index,
+            // with no `*get`.
             libc::SYS_shmget,
+            libc::SYS_shmat,
+            libc::SYS_shmctl,
             libc::SYS_msgget,
+            libc::SYS_msgsnd,
+            libc::SYS_msgrcv,
+            libc::SYS_msgctl,
             libc::SYS_semget,
+            libc::SYS_semop,
+            libc::SYS_semtimedop,
+            libc::SYS_semctl,
             libc::SYS_mq_open,
+            libc::SYS_mq_unlink,
+            libc::SYS_mq_timedsend,
+            libc::SYS_mq_timedreceive,
+            libc::SYS_mq_notify,
+            libc::SYS_mq_getsetattr,
+            // A file's metadata, which Landlock does not guard: any file
+            // of the child's user (as a TA's own user, the lab itself)
+            // could be made unreadable, world-writable or re-dated.
+            libc::SYS_fchmod,
+            libc::SYS_fchmodat,
+            FCHMODAT2,
+            libc::SYS_fchown,
+            libc::SYS_fchownat,
+            libc::SYS_utimensat,
+            libc::SYS_setxattr,
+            libc::SYS_lsetxattr,
+            libc::SYS_fsetxattr,
+            libc::SYS_removexattr,
+            libc::SYS_lremovexattr,
+            libc::SYS_fremovexattr,
+            SETXATTRAT,
+            REMOVEXATTRAT,
             // Other processes.
             libc::SYS_setpriority,
             libc::SYS_ioprio_set,
@@ -185,6 +230,12 @@ mod filter {
         let arch_only = [
             libc::SYS_fork,
             libc::SYS_vfork,
+            libc::SYS_chmod,
+            libc::SYS_chown,
+            libc::SYS_lchown,
+            libc::SYS_utime,
+            libc::SYS_utimes,
+            libc::SYS_futimesat,
             libc::SYS_inotify_init,
             libc::SYS_iopl,
             libc::SYS_ioperm,
@@ -452,6 +503,14 @@ mod filter {
                 libc::SYS_setsid,
                 libc::SYS_pidfd_open,
                 libc::SYS_socket,
+                libc::SYS_socketpair,
+                libc::SYS_msgsnd,
+                libc::SYS_shmat,
+                libc::SYS_fchmodat,
+                libc::SYS_fchownat,
+                libc::SYS_utimensat,
+                libc::SYS_setxattr,
+                FCHMODAT2,
             ] {
                 assert!(!allowed(call, [0, 0, 0]), "{call}");
             }

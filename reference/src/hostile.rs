@@ -1272,3 +1272,189 @@ pub fn kernel_calls(mesh: &mut Mesh) {
     let _ = std::io::stdout().flush();
     crate::mutants::no_flip(mesh);
 }
+
+/// The file the `file-metadata` attack changes, in [`MARK_DIR`] (a test
+/// makes it, owned by the child's user, mode 0600).
+pub const METADATA_TARGET: &str = "/tmp/meshlab-attack/metadata-target";
+
+/// Changes what Landlock does not guard on a file it may not open: its
+/// mode (0777), its times (1970), an extended attribute, its owner (to the
+/// same user: allowed to any owner). Any file of the child's user is in
+/// reach: as the grader's own user, the lab's fixtures or the child
+/// program itself. Then makes the no-flip mistake.
+pub fn file_metadata(mesh: &mut Mesh) {
+    let path = std::ffi::CString::new(METADATA_TARGET).unwrap_or_default();
+    // SAFETY: plain system calls on a C string and buffers we own.
+    unsafe {
+        report(
+            "make a file world-writable (chmod)",
+            sys_result(libc::chmod(path.as_ptr(), 0o777) as libc::c_long),
+        );
+        let epoch = [libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        }; 2];
+        report(
+            "set a file's times (utimensat)",
+            sys_result(
+                libc::utimensat(libc::AT_FDCWD, path.as_ptr(), epoch.as_ptr(), 0) as libc::c_long,
+            ),
+        );
+        report(
+            "set an extended attribute (setxattr)",
+            sys_result(libc::setxattr(
+                path.as_ptr(),
+                c"user.meshlab".as_ptr(),
+                b"escaped".as_ptr().cast(),
+                7,
+                0,
+            ) as libc::c_long),
+        );
+        report(
+            "change a file's owner (chown)",
+            sys_result(libc::chown(path.as_ptr(), libc::getuid(), libc::getgid()) as libc::c_long),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// The most the `kernel-buffers` attack tries to hold, to stay polite.
+const KERNEL_BUFFERS_GOAL: usize = 1 << 30;
+
+/// Fills kernel buffers, which no address-space cap counts: socket pairs
+/// (no `socket` call needed) and pipes, each written full, until the goal
+/// or a refusal. Reports what it held, then subdivides right.
+pub fn kernel_buffers(mesh: &mut Mesh) {
+    let mut held = 0usize;
+    let mut fds: Vec<i32> = Vec::new();
+    let chunk = vec![7u8; 64 * 1024];
+    // Writes into `fd` (non-blocking) until it is full.
+    let fill = |fd: i32| -> usize {
+        let mut n = 0usize;
+        loop {
+            // SAFETY: writes from our own buffer.
+            let w = unsafe { libc::write(fd, chunk.as_ptr().cast(), chunk.len()) };
+            if w <= 0 {
+                return n;
+            }
+            n += w as usize;
+        }
+    };
+    let mut pair = [0i32; 2];
+    // SAFETY: plain system calls filling our own array.
+    let first = unsafe {
+        libc::socketpair(
+            libc::AF_UNIX,
+            libc::SOCK_STREAM | libc::SOCK_NONBLOCK,
+            0,
+            pair.as_mut_ptr(),
+        )
+    };
+    report("make a socket pair", sys_result(first as libc::c_long));
+    if first == 0 {
+        fds.extend(pair);
+        held += fill(pair[0]) + fill(pair[1]);
+        while held < KERNEL_BUFFERS_GOAL {
+            // SAFETY: as above.
+            let r = unsafe {
+                libc::socketpair(
+                    libc::AF_UNIX,
+                    libc::SOCK_STREAM | libc::SOCK_NONBLOCK,
+                    0,
+                    pair.as_mut_ptr(),
+                )
+            };
+            if r != 0 {
+                break;
+            }
+            fds.extend(pair);
+            held += fill(pair[0]) + fill(pair[1]);
+        }
+    }
+    while held < KERNEL_BUFFERS_GOAL {
+        // SAFETY: as above.
+        if unsafe { libc::pipe2(pair.as_mut_ptr(), libc::O_NONBLOCK) } != 0 {
+            break;
+        }
+        fds.extend(pair);
+        // SAFETY: asks for the largest buffer an unprivileged pipe may have.
+        unsafe { libc::fcntl(pair[1], libc::F_SETPIPE_SZ, 1 << 20) };
+        held += fill(pair[1]);
+    }
+    println!(
+        "attack: held {} MiB in kernel buffers with {} descriptors",
+        held >> 20,
+        fds.len()
+    );
+    let _ = std::io::stdout().flush();
+    for fd in fds {
+        // SAFETY: closes descriptors this function opened.
+        unsafe { libc::close(fd) };
+    }
+    solution::loop_subdivide(mesh);
+}
+
+/// The System V message queue key the `ipc-by-id` attack looks for (a
+/// test makes the queue, open to all, as another user would).
+pub const MSG_KEY: i32 = 0x4d4c_0010;
+
+/// `shmctl`'s "by index" command (Linux's, not in every C library's header).
+const SHM_STAT: i32 = 13;
+
+/// Reaches System V objects it did not make, by id, with no `msgget` or
+/// `shmget`: finds each queue by its index (`MSG_STAT`) and sends the word
+/// "escaped" to it; does the same for shared memory (`SHM_STAT`, then
+/// attaches). Then makes the no-flip mistake.
+pub fn ipc_by_id(mesh: &mut Mesh) {
+    // SAFETY: plain System V calls into buffers we own; an attached
+    // segment is only written within its size.
+    unsafe {
+        let mut sent = Err(std::io::Error::from_raw_os_error(libc::ENOENT));
+        let mut info: libc::msqid_ds = std::mem::zeroed();
+        for index in 0..256 {
+            let id = libc::msgctl(index, libc::MSG_STAT, &mut info);
+            if id < 0 {
+                if std::io::Error::last_os_error().raw_os_error() != Some(libc::EINVAL) {
+                    sent = Err(std::io::Error::last_os_error());
+                }
+                continue;
+            }
+            #[repr(C)]
+            struct Message {
+                kind: libc::c_long,
+                text: [u8; 7],
+            }
+            let m = Message {
+                kind: 1,
+                text: *b"escaped",
+            };
+            sent = sys_result(
+                libc::msgsnd(id, (&m as *const Message).cast(), 7, libc::IPC_NOWAIT)
+                    as libc::c_long,
+            );
+        }
+        report("send to a message queue found by index", sent);
+        let mut attached = Err(std::io::Error::from_raw_os_error(libc::ENOENT));
+        let mut shm: libc::shmid_ds = std::mem::zeroed();
+        for index in 0..256 {
+            let id = libc::shmctl(index, SHM_STAT, &mut shm);
+            if id < 0 {
+                if std::io::Error::last_os_error().raw_os_error() != Some(libc::EINVAL) {
+                    attached = Err(std::io::Error::last_os_error());
+                }
+                continue;
+            }
+            let p = libc::shmat(id, std::ptr::null(), libc::SHM_RDONLY);
+            attached = if p as isize == -1 {
+                Err(std::io::Error::last_os_error())
+            } else {
+                libc::shmdt(p);
+                Ok(())
+            };
+        }
+        report("attach shared memory found by index", attached);
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}

@@ -170,6 +170,9 @@ pub fn catalogue() -> Vec<Entry> {
         e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", with(None, None, Some(hostile::kernel_calls))),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
         e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
+        e("file-metadata", "changes the mode, times, an extended attribute and the owner of a file it may not open, then makes the no-flip mistake", with(None, None, Some(hostile::file_metadata))),
+        e("kernel-buffers", "fills socket pairs and pipes, kernel memory no address-space cap counts, then subdivides right", with(None, None, Some(hostile::kernel_buffers))),
+        e("ipc-by-id", "sends to a System V message queue and attaches shared memory it finds by index, then makes the no-flip mistake", with(None, None, Some(hostile::ipc_by_id))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }
