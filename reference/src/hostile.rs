@@ -1458,3 +1458,126 @@ pub fn ipc_by_id(mesh: &mut Mesh) {
     let _ = std::io::stdout().flush();
     crate::mutants::no_flip(mesh);
 }
+
+/// Tries, one after another, what a fresh look at the sandbox found and
+/// the filter or the limits should stop: running a shell, a program of its
+/// own from a `memfd`, a thread bomb, raising its limits, naming the
+/// hidden fixtures' files by the child program's path, opening the
+/// grader's end of its pipes through `/proc/self/fd`, signalling every
+/// process, `/dev/shm`. Then makes the no-flip mistake.
+pub fn probes(mesh: &mut Mesh) {
+    use std::os::unix::ffi::OsStrExt;
+    // SAFETY: raw system calls on C strings and buffers we own.
+    unsafe {
+        let argv = [
+            c"sh".as_ptr(),
+            c"-c".as_ptr(),
+            c"true".as_ptr(),
+            std::ptr::null(),
+        ];
+        let envp = [std::ptr::null::<libc::c_char>()];
+        report(
+            "run a shell (execve /bin/sh)",
+            sys_result(
+                libc::execve(c"/bin/sh".as_ptr(), argv.as_ptr(), envp.as_ptr()) as libc::c_long,
+            ),
+        );
+        // The file-size limit's signal would end the probes here.
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+        let memfd = libc::memfd_create(c"own".as_ptr(), 0);
+        report("make a memfd", sys_result(memfd as libc::c_long));
+        if memfd >= 0 {
+            report(
+                "grow a memfd past the memory cap (fallocate 4 GiB)",
+                sys_result(libc::fallocate(memfd, 0, 0, 4 << 30) as libc::c_long),
+            );
+        }
+        let raise = libc::rlimit {
+            rlim_cur: libc::RLIM_INFINITY,
+            rlim_max: libc::RLIM_INFINITY,
+        };
+        report(
+            "raise its memory cap (setrlimit)",
+            sys_result(libc::setrlimit(libc::RLIMIT_AS, &raise) as libc::c_long),
+        );
+        report(
+            "signal every process (kill -1, signal 0)",
+            sys_result(libc::kill(-1, 0) as libc::c_long),
+        );
+        let attr: [u32; 12] = [48, libc::SCHED_FIFO as u32, 0, 0, 0, 99, 0, 0, 0, 0, 0, 0];
+        report(
+            "take a real-time priority (sched_setattr FIFO)",
+            sys_result(libc::syscall(libc::SYS_sched_setattr, 0, attr.as_ptr(), 0)),
+        );
+        report(
+            "open /dev/shm",
+            sys_result(
+                libc::open(c"/dev/shm".as_ptr(), libc::O_RDONLY | libc::O_DIRECTORY)
+                    as libc::c_long,
+            ),
+        );
+        report(
+            "read its stdout pipe back (/proc/self/fd/1)",
+            sys_result(libc::open(
+                c"/proc/self/fd/1".as_ptr(),
+                libc::O_RDONLY | libc::O_NONBLOCK,
+            ) as libc::c_long),
+        );
+        report(
+            "write its OOM score (/proc/self/oom_score_adj)",
+            std::fs::write("/proc/self/oom_score_adj", "1000"),
+        );
+    }
+    // The lab's folder, from the child program's own path.
+    let exe = std::fs::read_link("/proc/self/exe");
+    println!("attack: the child program is {exe:?}");
+    let mut found = Vec::new();
+    if let Ok(exe) = exe {
+        for dir in exe.ancestors() {
+            let hidden = dir.join("fixtures/hidden");
+            if std::fs::metadata(&hidden).is_ok() {
+                found.push(hidden.as_os_str().as_bytes().to_vec());
+            }
+        }
+    }
+    println!(
+        "attack: hidden fixture folders seen by stat: {}",
+        found
+            .iter()
+            .map(|f| String::from_utf8_lossy(f).into_owned())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    report(
+        "list the hidden fixtures",
+        found
+            .first()
+            .map_or(Err(std::io::ErrorKind::NotFound.into()), |f| {
+                std::fs::read_dir(std::ffi::OsStr::from_bytes(f)).map(|_| ())
+            }),
+    );
+    let mut threads = 0;
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let mut handles = Vec::new();
+    while threads < 5000 {
+        let stop = stop.clone();
+        match std::thread::Builder::new()
+            .stack_size(64 << 10)
+            .spawn(move || {
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }) {
+            Ok(h) => handles.push(h),
+            Err(_) => break,
+        }
+        threads += 1;
+    }
+    println!("attack: started {threads} threads");
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    for h in handles {
+        let _ = h.join();
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}

@@ -1469,3 +1469,51 @@ fn system_v_objects_of_others_cannot_be_reached_by_index() {
         g.context()
     );
 }
+
+#[test]
+fn a_fresh_look_s_probes_are_all_stopped() {
+    let g = grade("probes", &["--case", "cube-subdivide-1"]);
+    assert_no_flip_verdict(&g);
+    for what in [
+        "run a shell (execve /bin/sh)",
+        "grow a memfd past the memory cap (fallocate 4 GiB)",
+        "raise its memory cap (setrlimit)",
+        "signal every process (kill -1, signal 0)",
+        "take a real-time priority (sched_setattr FIFO)",
+        "open /dev/shm",
+        "read its stdout pipe back (/proc/self/fd/1)",
+        "write its OOM score (/proc/self/oom_score_adj)",
+        "list the hidden fixtures",
+    ] {
+        assert!(g.denied(what), "{what}: {}", g.context());
+    }
+    // The thread bomb meets `nobody`'s process cap.
+    let threads: usize = g
+        .stdout
+        .lines()
+        .find_map(|l| {
+            l.split("| attack: started ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no thread count: {}", g.context()));
+    assert!(threads <= 512, "{threads} threads: {}", g.context());
+}
+
+#[test]
+#[ignore = "open: Landlock guards opening files, not stat: the child sees which paths exist"]
+fn the_hidden_fixtures_cannot_even_be_seen_to_exist() {
+    // The child program's path leads to the lab; `stat` finds
+    // `fixtures/hidden` (and would find a hidden case's file by its name,
+    // and its size) though nothing in it can be opened or listed. Closing
+    // it needs a mount namespace with nothing but the program and the
+    // libraries in it.
+    let g = grade("probes", &["--case", "cube-subdivide-1"]);
+    let seen = g
+        .attack("hidden fixture folders seen by stat")
+        .unwrap_or_else(|| panic!("no report: {}", g.context()));
+    assert!(seen.trim_end().ends_with("by stat:"), "{}", g.context());
+}
