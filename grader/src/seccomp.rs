@@ -11,9 +11,9 @@
 //!   call of its own).
 //! - System V and POSIX IPC, every call (shared memory outlives the process
 //!   and the cap; objects others made are found by index without `*get`).
-//! - A file's mode, owner, times and extended attributes (`chmod`,
-//!   `chown`, `utimensat`, `setxattr`... and their variants): Landlock
-//!   guards opening a file, not its metadata.
+//! - A file's mode, owner, times, extended attributes and flags (`chmod`,
+//!   `chown`, `utimensat`, `setxattr`, `file_setattr`... and their
+//!   variants): Landlock guards opening a file, not its metadata.
 //! - Reaching another process: signals other than to itself (`kill`,
 //!   `tgkill`, `rt_sigqueueinfo`... only with its own pid, `tkill` and
 //!   pidfds not at all, `F_SETOWN`/`FIOSETOWN`, which aim `SIGIO`), its
@@ -101,6 +101,8 @@ mod filter {
     const FCHMODAT2: libc::c_long = 452;
     const SETXATTRAT: libc::c_long = 463;
     const REMOVEXATTRAT: libc::c_long = 466;
+    const OPEN_TREE_ATTR: libc::c_long = 467;
+    const FILE_SETATTR: libc::c_long = 469;
 
     /// The system calls refused outright.
     fn refused() -> Vec<libc::c_long> {
@@ -146,6 +148,8 @@ mod filter {
             libc::SYS_fremovexattr,
             SETXATTRAT,
             REMOVEXATTRAT,
+            // The inode flags (append-only off, no-dump...), by path.
+            FILE_SETATTR,
             // Other processes.
             libc::SYS_setpriority,
             libc::SYS_ioprio_set,
@@ -177,6 +181,7 @@ mod filter {
             libc::SYS_fspick,
             libc::SYS_move_mount,
             libc::SYS_open_tree,
+            OPEN_TREE_ATTR,
             libc::SYS_mount_setattr,
             libc::SYS_open_by_handle_at,
             libc::SYS_name_to_handle_at,
@@ -511,6 +516,7 @@ mod filter {
                 libc::SYS_utimensat,
                 libc::SYS_setxattr,
                 FCHMODAT2,
+                FILE_SETATTR,
             ] {
                 assert!(!allowed(call, [0, 0, 0]), "{call}");
             }

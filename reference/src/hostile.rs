@@ -1310,6 +1310,20 @@ pub fn file_metadata(mesh: &mut Mesh) {
                 0,
             ) as libc::c_long),
         );
+        // struct file_attr: xflags, extsize, nextents, projid, cowextsize.
+        let mut flags = [0u32; 6];
+        flags[0] = 0x80; // FS_XFLAG_NODUMP: no capability needed.
+        report(
+            "set a file's flags (file_setattr)",
+            sys_result(libc::syscall(
+                469,
+                libc::AT_FDCWD,
+                path.as_ptr(),
+                flags.as_ptr(),
+                24usize,
+                0,
+            )),
+        );
         report(
             "change a file's owner (chown)",
             sys_result(libc::chown(path.as_ptr(), libc::getuid(), libc::getgid()) as libc::c_long),

@@ -1389,6 +1389,7 @@ fn no_file_s_mode_times_owner_or_attributes_can_be_changed() {
             "make a file world-writable (chmod)",
             "set a file's times (utimensat)",
             "set an extended attribute (setxattr)",
+            "set a file's flags (file_setattr)",
             "change a file's owner (chown)",
         ] {
             assert!(
