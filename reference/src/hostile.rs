@@ -1523,6 +1523,22 @@ pub fn probes(mesh: &mut Mesh) {
             "take a real-time priority (sched_setattr FIFO)",
             sys_result(libc::syscall(libc::SYS_sched_setattr, 0, attr.as_ptr(), 0)),
         );
+        let hard = |r| {
+            let mut l: libc::rlimit = std::mem::zeroed();
+            libc::getrlimit(r, &mut l);
+            l.rlim_max
+        };
+        println!(
+            "attack: priority limits (real-time, nice): {} {}",
+            hard(libc::RLIMIT_RTPRIO),
+            hard(libc::RLIMIT_NICE)
+        );
+        // SCHED_OTHER at nice -20 (the nice field is signed).
+        let attr: [u32; 12] = [48, 0, 0, 0, (-20i32) as u32, 0, 0, 0, 0, 0, 0, 0];
+        report(
+            "raise its priority (sched_setattr nice -20)",
+            sys_result(libc::syscall(libc::SYS_sched_setattr, 0, attr.as_ptr(), 0)),
+        );
         report(
             "open /dev/shm",
             sys_result(

@@ -1481,6 +1481,7 @@ fn a_fresh_look_s_probes_are_all_stopped() {
         "raise its memory cap (setrlimit)",
         "signal every process (kill -1, signal 0)",
         "take a real-time priority (sched_setattr FIFO)",
+        "raise its priority (sched_setattr nice -20)",
         "open /dev/shm",
         "read its stdout pipe back (/proc/self/fd/1)",
         "write its OOM score (/proc/self/oom_score_adj)",
@@ -1488,6 +1489,14 @@ fn a_fresh_look_s_probes_are_all_stopped() {
     ] {
         assert!(g.denied(what), "{what}: {}", g.context());
     }
+    // Whatever limits the grader inherited, none lets the child raise its
+    // priority (a real-time thread that spins holds a core).
+    assert!(
+        g.attack("priority limits (real-time, nice)")
+            .is_some_and(|l| l.ends_with(": 0 0")),
+        "{}",
+        g.context()
+    );
     // The thread bomb meets `nobody`'s process cap.
     let threads: usize = g
         .stdout
