@@ -11,6 +11,9 @@
 //!   call of its own).
 //! - System V and POSIX IPC, every call (shared memory outlives the process
 //!   and the cap; objects others made are found by index without `*get`).
+//! - Opening a file to write, create or truncate it; truncating, moving,
+//!   linking, removing or making one (Landlock stops these too; without
+//!   it, a grader's own user's files would be open to them).
 //! - A file's mode, owner, times, extended attributes and flags (`chmod`,
 //!   `chown`, `utimensat`, `setxattr`, `file_setattr`... and their
 //!   variants): Landlock guards opening a file, not its metadata.
@@ -150,6 +153,17 @@ mod filter {
             REMOVEXATTRAT,
             // The inode flags (append-only off, no-dump...), by path.
             FILE_SETATTR,
+            // Emptying, moving, linking, removing or making a file: Landlock
+            // stops these, and without it so does the filter (`RLIMIT_FSIZE`
+            // stops only growth). `openat2`'s flags are behind a pointer.
+            libc::SYS_truncate,
+            libc::SYS_unlinkat,
+            libc::SYS_renameat2,
+            libc::SYS_linkat,
+            libc::SYS_symlinkat,
+            libc::SYS_mkdirat,
+            libc::SYS_mknodat,
+            libc::SYS_openat2,
             // Other processes.
             libc::SYS_setpriority,
             libc::SYS_ioprio_set,
@@ -241,6 +255,15 @@ mod filter {
             libc::SYS_utime,
             libc::SYS_utimes,
             libc::SYS_futimesat,
+            libc::SYS_unlink,
+            libc::SYS_rmdir,
+            libc::SYS_rename,
+            libc::SYS_renameat,
+            libc::SYS_link,
+            libc::SYS_symlink,
+            libc::SYS_mkdir,
+            libc::SYS_mknod,
+            libc::SYS_creat,
             libc::SYS_inotify_init,
             libc::SYS_iopl,
             libc::SYS_ioperm,
@@ -326,6 +349,21 @@ mod filter {
         p.push(stmt(RET_K, RET_ERRNO | libc::EPERM as u32));
     }
 
+    /// The `open` flags refused: writing, creating, truncating. The child
+    /// opens files only to read (the loader, `/proc/self`); its
+    /// descriptors for writing were opened before the filter.
+    const OPEN_WRITE: u32 = (libc::O_ACCMODE | libc::O_CREAT | libc::O_TRUNC) as u32;
+
+    /// Appends: if the call is `call`, EPERM when its argument `arg` has
+    /// any bit of `mask`, else allowed.
+    fn refuse_flags(p: &mut Vec<SockFilter>, call: libc::c_long, arg: u32, mask: u32) {
+        p.push(jump(JEQ_K, call as u32, 0, 4));
+        p.push(stmt(LD_W_ABS, ARG0 + 8 * arg));
+        p.push(jump(JSET_K, mask, 0, 1));
+        p.push(stmt(RET_K, RET_ERRNO | libc::EPERM as u32));
+        p.push(stmt(RET_K, RET_ALLOW));
+    }
+
     fn program(own_pid: u32) -> Vec<SockFilter> {
         let errno = |e: i32| RET_ERRNO | e as u32;
         let mut p = vec![
@@ -378,6 +416,9 @@ mod filter {
         p.push(stmt(RET_K, RET_ALLOW));
         refuse_values(&mut p, libc::SYS_ioctl, 1, &IOCTL_REFUSED);
         refuse_values(&mut p, libc::SYS_fcntl, 1, &FCNTL_REFUSED);
+        refuse_flags(&mut p, libc::SYS_openat, 2, OPEN_WRITE);
+        #[cfg(target_arch = "x86_64")]
+        refuse_flags(&mut p, libc::SYS_open, 1, OPEN_WRITE);
         p.push(stmt(RET_K, RET_ALLOW));
         p
     }
@@ -475,6 +516,12 @@ mod filter {
             assert!(allowed(libc::SYS_kill, [own, libc::SIGABRT as u64, 0]));
             assert!(allowed(libc::SYS_ioctl, [1, request(libc::TCGETS), 0]));
             assert!(allowed(libc::SYS_fcntl, [3, libc::F_GETFD as u64, 0]));
+            let read_only = (libc::O_RDONLY | libc::O_CLOEXEC | libc::O_DIRECTORY) as u64;
+            assert!(allowed(libc::SYS_openat, [0, 0, read_only]));
+            for flags in [libc::O_WRONLY, libc::O_RDWR, libc::O_CREAT, libc::O_TRUNC] {
+                let flags = flags as u64 | libc::O_CLOEXEC as u64;
+                assert!(!allowed(libc::SYS_openat, [0, 0, flags]), "{flags:#x}");
+            }
             for call in [
                 libc::SYS_sched_setaffinity,
                 libc::SYS_sched_setattr,
@@ -517,6 +564,9 @@ mod filter {
                 libc::SYS_setxattr,
                 FCHMODAT2,
                 FILE_SETATTR,
+                libc::SYS_unlinkat,
+                libc::SYS_renameat2,
+                libc::SYS_truncate,
             ] {
                 assert!(!allowed(call, [0, 0, 0]), "{call}");
             }

@@ -1611,3 +1611,63 @@ pub fn probes(mesh: &mut Mesh) {
     let _ = std::io::stdout().flush();
     crate::mutants::no_flip(mesh);
 }
+
+/// The folder the `wipe-files` attack works in, in [`MARK_DIR`] (a test
+/// makes it, owned by the child's user, with a file `victim` in it).
+pub const WIPE_DIR: &str = "/tmp/meshlab-attack/wipe";
+
+/// Destroys files of the child's user by every call that does not grow
+/// one (what `RLIMIT_FSIZE` does not stop): opens one to truncate it,
+/// truncates it by path, renames, links, unlinks it, makes a folder, a
+/// symbolic link and a node. Landlock stops each; without it, as a TA's
+/// own user, the lab would be wiped. Then makes the no-flip mistake.
+pub fn wipe_files(mesh: &mut Mesh) {
+    let c = |name: &str| std::ffi::CString::new(format!("{WIPE_DIR}/{name}")).unwrap_or_default();
+    let (victim, moved, made) = (c("victim"), c("moved"), c("made"));
+    // SAFETY: plain system calls on C strings we own.
+    unsafe {
+        let fd = libc::open(victim.as_ptr(), libc::O_WRONLY | libc::O_TRUNC);
+        report(
+            "open a file to empty it (O_TRUNC)",
+            sys_result(fd as libc::c_long),
+        );
+        if fd >= 0 {
+            libc::close(fd);
+        }
+        let fd = libc::open(victim.as_ptr(), libc::O_RDONLY | libc::O_CREAT, 0o644);
+        report("open a file with O_CREAT", sys_result(fd as libc::c_long));
+        if fd >= 0 {
+            libc::close(fd);
+        }
+        report(
+            "truncate a file by path",
+            sys_result(libc::truncate(victim.as_ptr(), 0) as libc::c_long),
+        );
+        report(
+            "link a file",
+            sys_result(libc::link(victim.as_ptr(), made.as_ptr()) as libc::c_long),
+        );
+        report(
+            "rename a file",
+            sys_result(libc::rename(victim.as_ptr(), moved.as_ptr()) as libc::c_long),
+        );
+        report(
+            "remove a file",
+            sys_result(libc::unlink(victim.as_ptr()) as libc::c_long),
+        );
+        report(
+            "make a folder",
+            sys_result(libc::mkdir(made.as_ptr(), 0o755) as libc::c_long),
+        );
+        report(
+            "make a symbolic link",
+            sys_result(libc::symlink(c"/".as_ptr(), made.as_ptr()) as libc::c_long),
+        );
+        report(
+            "make a named pipe",
+            sys_result(libc::mknod(made.as_ptr(), libc::S_IFIFO | 0o644, 0) as libc::c_long),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}

@@ -174,6 +174,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("kernel-buffers", "fills socket pairs and pipes, kernel memory no address-space cap counts, then subdivides right", with(None, None, Some(hostile::kernel_buffers))),
         e("ipc-by-id", "sends to a System V message queue and attaches shared memory it finds by index, then makes the no-flip mistake", with(None, None, Some(hostile::ipc_by_id))),
         e("probes", "tries a shell, a memfd past the cap, raising its limits, kill -1, real-time priority, /dev/shm, its pipes through /proc, the hidden fixtures by path, a thread bomb; then makes the no-flip mistake", with(None, None, Some(hostile::probes))),
+        e("wipe-files", "empties, truncates, renames, links and removes a file of its user, makes a folder, a link and a pipe beside it, then makes the no-flip mistake", with(None, None, Some(hostile::wipe_files))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }

@@ -1527,3 +1527,64 @@ fn the_hidden_fixtures_cannot_even_be_seen_to_exist() {
         .unwrap_or_else(|| panic!("no report: {}", g.context()));
     assert!(seen.trim_end().ends_with("by stat:"), "{}", g.context());
 }
+
+#[test]
+fn no_file_is_emptied_moved_or_made_even_without_landlock() {
+    // Landlock stops each; without it (old kernels, some containers) the
+    // filter must, or a TA grading as themselves has their lab wiped: the
+    // folder and the file are the child's user's (`nobody` here).
+    use std::os::unix::fs::PermissionsExt;
+    let dir = Path::new(hostile::WIPE_DIR);
+    for landlock in [true, false] {
+        let _ = std::fs::remove_dir_all(dir);
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(dir.join("victim"), "the lab").unwrap();
+        // SAFETY: geteuid only reads.
+        if unsafe { libc::geteuid() } == 0 {
+            for p in [dir.to_path_buf(), dir.join("victim")] {
+                std::os::unix::fs::chown(&p, Some(65534), Some(65534)).unwrap();
+            }
+        }
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let mut args = vec!["--case", "cube-subdivide-1"];
+        if !landlock {
+            args.push("--without-landlock");
+        }
+        let g = grade_as_user("wipe-files", &args);
+        assert_no_flip_verdict(&g);
+        assert_eq!(
+            std::fs::read_to_string(dir.join("victim")).ok().as_deref(),
+            Some("the lab"),
+            "landlock {landlock}: {}",
+            g.context()
+        );
+        let left: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(
+            left,
+            vec![std::ffi::OsString::from("victim")],
+            "{}",
+            g.context()
+        );
+        for what in [
+            "open a file to empty it (O_TRUNC)",
+            "open a file with O_CREAT",
+            "truncate a file by path",
+            "link a file",
+            "rename a file",
+            "remove a file",
+            "make a folder",
+            "make a symbolic link",
+            "make a named pipe",
+        ] {
+            assert!(
+                g.denied(what),
+                "landlock {landlock}: {what}: {}",
+                g.context()
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
