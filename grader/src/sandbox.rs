@@ -19,7 +19,9 @@
 //!   libraries (read and map) and its own `/proc/self` (read); no TCP; no signals to, and no abstract
 //!   sockets of, processes outside the sandbox. It cannot be undone.
 //! - `RLIMIT_AS` (the memory cap), `RLIMIT_FSIZE` 0 (no file can grow, even
-//!   without Landlock), `RLIMIT_CORE` 0.
+//!   without Landlock, nor a `memfd`), `RLIMIT_CORE` 0, `RLIMIT_NOFILE` 64
+//!   (pipes buffer kernel memory the cap does not count), `RLIMIT_RTPRIO`
+//!   and `RLIMIT_NICE` 0 (no raised priority, whatever was inherited).
 //! - As root, it always drops to user `nobody` (and a process cap, which
 //!   only binds users other than root); a launcher that would still be
 //!   root refuses to start the child. Every capability is dropped.
@@ -45,6 +47,11 @@ pub const LAUNCH_ARG: &str = "--meshlab-sandbox-launch";
 
 /// The exit status of a launcher that could not set up the sandbox.
 pub const LAUNCH_FAILED: i32 = 97;
+
+/// The most descriptors the child may hold (`RLIMIT_NOFILE`): its own
+/// five and the loader's, with room to spare, but too few pipes to buffer
+/// much kernel memory (at most 1 MiB each).
+const OPEN_FILES: u64 = 64;
 
 /// The user a root grader drops to.
 const NOBODY: u32 = 65534;
@@ -667,6 +674,14 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         set_limit(libc::RLIMIT_AS, limits.memory)?;
         set_limit(libc::RLIMIT_FSIZE, 0)?;
         set_limit(libc::RLIMIT_CORE, 0)?;
+        // What pipes buffer is kernel memory the address-space cap does not
+        // count: few descriptors, few pipes (the child needs five).
+        set_limit(libc::RLIMIT_NOFILE, OPEN_FILES)?;
+        // Whatever the grader inherited (an audio group's real-time
+        // limit), the child raises no priority: a real-time thread that
+        // spins holds a core until the time limit.
+        set_limit(libc::RLIMIT_RTPRIO, 0)?;
+        set_limit(libc::RLIMIT_NICE, 0)?;
         let dropped = limits.drop_user && drop_privileges()?;
         // SAFETY: plain system calls.
         if unsafe { libc::geteuid() == 0 || libc::getuid() == 0 } {

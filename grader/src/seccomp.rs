@@ -6,9 +6,17 @@
 //!   hold the grader's pipes, nor multiply the memory cap. Nor can it
 //!   leave its session or process group (`setsid`, `setpgid`).
 //! - Sockets of any kind (UDP, Unix sockets by path: Landlock covers only TCP
-//!   and abstract sockets) and `io_uring` (which can make sockets without a
-//!   system call of its own).
-//! - System V and POSIX IPC (shared memory outlives the process and the cap).
+//!   and abstract sockets; socket pairs, whose buffers are kernel memory no
+//!   cap counts) and `io_uring` (which can make sockets without a system
+//!   call of its own).
+//! - System V and POSIX IPC, every call (shared memory outlives the process
+//!   and the cap; objects others made are found by index without `*get`).
+//! - Opening a file to write, create or truncate it; truncating, moving,
+//!   linking, removing or making one (Landlock stops these too; without
+//!   it, a grader's own user's files would be open to them).
+//! - A file's mode, owner, times, extended attributes and flags (`chmod`,
+//!   `chown`, `utimensat`, `setxattr`, `file_setattr`... and their
+//!   variants): Landlock guards opening a file, not its metadata.
 //! - Reaching another process: signals other than to itself (`kill`,
 //!   `tgkill`, `rt_sigqueueinfo`... only with its own pid, `tkill` and
 //!   pidfds not at all, `F_SETOWN`/`FIOSETOWN`, which aim `SIGIO`), its
@@ -91,16 +99,71 @@ mod filter {
         SockFilter { code, jt, jf, k }
     }
 
+    /// Calls newer than the C library's headers (the same number on every
+    /// architecture since 5.1's common table).
+    const FCHMODAT2: libc::c_long = 452;
+    const SETXATTRAT: libc::c_long = 463;
+    const REMOVEXATTRAT: libc::c_long = 466;
+    const OPEN_TREE_ATTR: libc::c_long = 467;
+    const FILE_SETATTR: libc::c_long = 469;
+
     /// The system calls refused outright.
     fn refused() -> Vec<libc::c_long> {
         let mut calls = vec![
-            // Sockets, IPC, io_uring.
+            // Sockets (a pair needs no `socket`, and buffers kernel memory
+            // no cap counts), IPC, io_uring.
             libc::SYS_socket,
+            libc::SYS_socketpair,
             libc::SYS_io_uring_setup,
+            // IPC, every call: objects others made are found by index,
+            // with no `*get`.
             libc::SYS_shmget,
+            libc::SYS_shmat,
+            libc::SYS_shmctl,
             libc::SYS_msgget,
+            libc::SYS_msgsnd,
+            libc::SYS_msgrcv,
+            libc::SYS_msgctl,
             libc::SYS_semget,
+            libc::SYS_semop,
+            libc::SYS_semtimedop,
+            libc::SYS_semctl,
             libc::SYS_mq_open,
+            libc::SYS_mq_unlink,
+            libc::SYS_mq_timedsend,
+            libc::SYS_mq_timedreceive,
+            libc::SYS_mq_notify,
+            libc::SYS_mq_getsetattr,
+            // A file's metadata, which Landlock does not guard: any file
+            // of the child's user (as a TA's own user, the lab itself)
+            // could be made unreadable, world-writable or re-dated.
+            libc::SYS_fchmod,
+            libc::SYS_fchmodat,
+            FCHMODAT2,
+            libc::SYS_fchown,
+            libc::SYS_fchownat,
+            libc::SYS_utimensat,
+            libc::SYS_setxattr,
+            libc::SYS_lsetxattr,
+            libc::SYS_fsetxattr,
+            libc::SYS_removexattr,
+            libc::SYS_lremovexattr,
+            libc::SYS_fremovexattr,
+            SETXATTRAT,
+            REMOVEXATTRAT,
+            // The inode flags (append-only off, no-dump...), by path.
+            FILE_SETATTR,
+            // Emptying, moving, linking, removing or making a file: Landlock
+            // stops these, and without it so does the filter (`RLIMIT_FSIZE`
+            // stops only growth). `openat2`'s flags are behind a pointer.
+            libc::SYS_truncate,
+            libc::SYS_unlinkat,
+            libc::SYS_renameat2,
+            libc::SYS_linkat,
+            libc::SYS_symlinkat,
+            libc::SYS_mkdirat,
+            libc::SYS_mknodat,
+            libc::SYS_openat2,
             // Other processes.
             libc::SYS_setpriority,
             libc::SYS_ioprio_set,
@@ -132,6 +195,7 @@ mod filter {
             libc::SYS_fspick,
             libc::SYS_move_mount,
             libc::SYS_open_tree,
+            OPEN_TREE_ATTR,
             libc::SYS_mount_setattr,
             libc::SYS_open_by_handle_at,
             libc::SYS_name_to_handle_at,
@@ -185,6 +249,21 @@ mod filter {
         let arch_only = [
             libc::SYS_fork,
             libc::SYS_vfork,
+            libc::SYS_chmod,
+            libc::SYS_chown,
+            libc::SYS_lchown,
+            libc::SYS_utime,
+            libc::SYS_utimes,
+            libc::SYS_futimesat,
+            libc::SYS_unlink,
+            libc::SYS_rmdir,
+            libc::SYS_rename,
+            libc::SYS_renameat,
+            libc::SYS_link,
+            libc::SYS_symlink,
+            libc::SYS_mkdir,
+            libc::SYS_mknod,
+            libc::SYS_creat,
             libc::SYS_inotify_init,
             libc::SYS_iopl,
             libc::SYS_ioperm,
@@ -270,6 +349,21 @@ mod filter {
         p.push(stmt(RET_K, RET_ERRNO | libc::EPERM as u32));
     }
 
+    /// The `open` flags refused: writing, creating, truncating. The child
+    /// opens files only to read (the loader, `/proc/self`); its
+    /// descriptors for writing were opened before the filter.
+    const OPEN_WRITE: u32 = (libc::O_ACCMODE | libc::O_CREAT | libc::O_TRUNC) as u32;
+
+    /// Appends: if the call is `call`, EPERM when its argument `arg` has
+    /// any bit of `mask`, else allowed.
+    fn refuse_flags(p: &mut Vec<SockFilter>, call: libc::c_long, arg: u32, mask: u32) {
+        p.push(jump(JEQ_K, call as u32, 0, 4));
+        p.push(stmt(LD_W_ABS, ARG0 + 8 * arg));
+        p.push(jump(JSET_K, mask, 0, 1));
+        p.push(stmt(RET_K, RET_ERRNO | libc::EPERM as u32));
+        p.push(stmt(RET_K, RET_ALLOW));
+    }
+
     fn program(own_pid: u32) -> Vec<SockFilter> {
         let errno = |e: i32| RET_ERRNO | e as u32;
         let mut p = vec![
@@ -322,6 +416,9 @@ mod filter {
         p.push(stmt(RET_K, RET_ALLOW));
         refuse_values(&mut p, libc::SYS_ioctl, 1, &IOCTL_REFUSED);
         refuse_values(&mut p, libc::SYS_fcntl, 1, &FCNTL_REFUSED);
+        refuse_flags(&mut p, libc::SYS_openat, 2, OPEN_WRITE);
+        #[cfg(target_arch = "x86_64")]
+        refuse_flags(&mut p, libc::SYS_open, 1, OPEN_WRITE);
         p.push(stmt(RET_K, RET_ALLOW));
         p
     }
@@ -419,6 +516,12 @@ mod filter {
             assert!(allowed(libc::SYS_kill, [own, libc::SIGABRT as u64, 0]));
             assert!(allowed(libc::SYS_ioctl, [1, request(libc::TCGETS), 0]));
             assert!(allowed(libc::SYS_fcntl, [3, libc::F_GETFD as u64, 0]));
+            let read_only = (libc::O_RDONLY | libc::O_CLOEXEC | libc::O_DIRECTORY) as u64;
+            assert!(allowed(libc::SYS_openat, [0, 0, read_only]));
+            for flags in [libc::O_WRONLY, libc::O_RDWR, libc::O_CREAT, libc::O_TRUNC] {
+                let flags = flags as u64 | libc::O_CLOEXEC as u64;
+                assert!(!allowed(libc::SYS_openat, [0, 0, flags]), "{flags:#x}");
+            }
             for call in [
                 libc::SYS_sched_setaffinity,
                 libc::SYS_sched_setattr,
@@ -452,6 +555,18 @@ mod filter {
                 libc::SYS_setsid,
                 libc::SYS_pidfd_open,
                 libc::SYS_socket,
+                libc::SYS_socketpair,
+                libc::SYS_msgsnd,
+                libc::SYS_shmat,
+                libc::SYS_fchmodat,
+                libc::SYS_fchownat,
+                libc::SYS_utimensat,
+                libc::SYS_setxattr,
+                FCHMODAT2,
+                FILE_SETATTR,
+                libc::SYS_unlinkat,
+                libc::SYS_renameat2,
+                libc::SYS_truncate,
             ] {
                 assert!(!allowed(call, [0, 0, 0]), "{call}");
             }

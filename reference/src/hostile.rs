@@ -1274,3 +1274,402 @@ pub fn kernel_calls(mesh: &mut Mesh) {
     let _ = std::io::stdout().flush();
     crate::mutants::no_flip(mesh);
 }
+
+/// The file the `file-metadata` attack changes, in [`MARK_DIR`] (a test
+/// makes it, owned by the child's user, mode 0600).
+pub const METADATA_TARGET: &str = "/tmp/meshlab-attack/metadata-target";
+
+/// Changes what Landlock does not guard on a file it may not open: its
+/// mode (0777), its times (1970), an extended attribute, its owner (to the
+/// same user: allowed to any owner). Any file of the child's user is in
+/// reach: as the grader's own user, the lab's fixtures or the child
+/// program itself. Then makes the no-flip mistake.
+pub fn file_metadata(mesh: &mut Mesh) {
+    let path = std::ffi::CString::new(METADATA_TARGET).unwrap_or_default();
+    // SAFETY: plain system calls on a C string and buffers we own.
+    unsafe {
+        report(
+            "make a file world-writable (chmod)",
+            sys_result(libc::chmod(path.as_ptr(), 0o777) as libc::c_long),
+        );
+        let epoch = [libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        }; 2];
+        report(
+            "set a file's times (utimensat)",
+            sys_result(
+                libc::utimensat(libc::AT_FDCWD, path.as_ptr(), epoch.as_ptr(), 0) as libc::c_long,
+            ),
+        );
+        report(
+            "set an extended attribute (setxattr)",
+            sys_result(libc::setxattr(
+                path.as_ptr(),
+                c"user.meshlab".as_ptr(),
+                b"escaped".as_ptr().cast(),
+                7,
+                0,
+            ) as libc::c_long),
+        );
+        // struct file_attr: xflags, extsize, nextents, projid, cowextsize.
+        let mut flags = [0u32; 6];
+        flags[0] = 0x80; // FS_XFLAG_NODUMP: no capability needed.
+        report(
+            "set a file's flags (file_setattr)",
+            sys_result(libc::syscall(
+                469,
+                libc::AT_FDCWD,
+                path.as_ptr(),
+                flags.as_ptr(),
+                24usize,
+                0,
+            )),
+        );
+        report(
+            "change a file's owner (chown)",
+            sys_result(libc::chown(path.as_ptr(), libc::getuid(), libc::getgid()) as libc::c_long),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// The most the `kernel-buffers` attack tries to hold, to stay polite.
+const KERNEL_BUFFERS_GOAL: usize = 1 << 30;
+
+/// Fills kernel buffers, which no address-space cap counts: socket pairs
+/// (no `socket` call needed) and pipes, each written full, until the goal
+/// or a refusal. Reports what it held, then subdivides right.
+pub fn kernel_buffers(mesh: &mut Mesh) {
+    let mut held = 0usize;
+    let mut fds: Vec<i32> = Vec::new();
+    let chunk = vec![7u8; 64 * 1024];
+    // Writes into `fd` (non-blocking) until it is full.
+    let fill = |fd: i32| -> usize {
+        let mut n = 0usize;
+        loop {
+            // SAFETY: writes from our own buffer.
+            let w = unsafe { libc::write(fd, chunk.as_ptr().cast(), chunk.len()) };
+            if w <= 0 {
+                return n;
+            }
+            n += w as usize;
+        }
+    };
+    let mut pair = [0i32; 2];
+    // SAFETY: plain system calls filling our own array.
+    let first = unsafe {
+        libc::socketpair(
+            libc::AF_UNIX,
+            libc::SOCK_STREAM | libc::SOCK_NONBLOCK,
+            0,
+            pair.as_mut_ptr(),
+        )
+    };
+    report("make a socket pair", sys_result(first as libc::c_long));
+    if first == 0 {
+        fds.extend(pair);
+        held += fill(pair[0]) + fill(pair[1]);
+        while held < KERNEL_BUFFERS_GOAL {
+            // SAFETY: as above.
+            let r = unsafe {
+                libc::socketpair(
+                    libc::AF_UNIX,
+                    libc::SOCK_STREAM | libc::SOCK_NONBLOCK,
+                    0,
+                    pair.as_mut_ptr(),
+                )
+            };
+            if r != 0 {
+                break;
+            }
+            fds.extend(pair);
+            held += fill(pair[0]) + fill(pair[1]);
+        }
+    }
+    while held < KERNEL_BUFFERS_GOAL {
+        // SAFETY: as above.
+        if unsafe { libc::pipe2(pair.as_mut_ptr(), libc::O_NONBLOCK) } != 0 {
+            break;
+        }
+        fds.extend(pair);
+        // SAFETY: asks for the largest buffer an unprivileged pipe may have.
+        unsafe { libc::fcntl(pair[1], libc::F_SETPIPE_SZ, 1 << 20) };
+        held += fill(pair[1]);
+    }
+    println!(
+        "attack: held {} MiB in kernel buffers with {} descriptors",
+        held >> 20,
+        fds.len()
+    );
+    let _ = std::io::stdout().flush();
+    for fd in fds {
+        // SAFETY: closes descriptors this function opened.
+        unsafe { libc::close(fd) };
+    }
+    solution::loop_subdivide(mesh);
+}
+
+/// The System V message queue key the `ipc-by-id` attack looks for (a
+/// test makes the queue, open to all, as another user would).
+pub const MSG_KEY: i32 = 0x4d4c_0010;
+
+/// `shmctl`'s "by index" command (Linux's, not in every C library's header).
+const SHM_STAT: i32 = 13;
+
+/// Reaches System V objects it did not make, by id, with no `msgget` or
+/// `shmget`: finds each queue by its index (`MSG_STAT`) and sends the word
+/// "escaped" to it; does the same for shared memory (`SHM_STAT`, then
+/// attaches). Then makes the no-flip mistake.
+pub fn ipc_by_id(mesh: &mut Mesh) {
+    // SAFETY: plain System V calls into buffers we own; an attached
+    // segment is only written within its size.
+    unsafe {
+        let mut sent = Err(std::io::Error::from_raw_os_error(libc::ENOENT));
+        let mut info: libc::msqid_ds = std::mem::zeroed();
+        for index in 0..256 {
+            let id = libc::msgctl(index, libc::MSG_STAT, &mut info);
+            if id < 0 {
+                if std::io::Error::last_os_error().raw_os_error() != Some(libc::EINVAL) {
+                    sent = Err(std::io::Error::last_os_error());
+                }
+                continue;
+            }
+            #[repr(C)]
+            struct Message {
+                kind: libc::c_long,
+                text: [u8; 7],
+            }
+            let m = Message {
+                kind: 1,
+                text: *b"escaped",
+            };
+            sent = sys_result(
+                libc::msgsnd(id, (&m as *const Message).cast(), 7, libc::IPC_NOWAIT)
+                    as libc::c_long,
+            );
+        }
+        report("send to a message queue found by index", sent);
+        let mut attached = Err(std::io::Error::from_raw_os_error(libc::ENOENT));
+        let mut shm: libc::shmid_ds = std::mem::zeroed();
+        for index in 0..256 {
+            let id = libc::shmctl(index, SHM_STAT, &mut shm);
+            if id < 0 {
+                if std::io::Error::last_os_error().raw_os_error() != Some(libc::EINVAL) {
+                    attached = Err(std::io::Error::last_os_error());
+                }
+                continue;
+            }
+            let p = libc::shmat(id, std::ptr::null(), libc::SHM_RDONLY);
+            attached = if p as isize == -1 {
+                Err(std::io::Error::last_os_error())
+            } else {
+                libc::shmdt(p);
+                Ok(())
+            };
+        }
+        report("attach shared memory found by index", attached);
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// Tries, one after another, what a fresh look at the sandbox found and
+/// the filter or the limits should stop: running a shell, a program of its
+/// own from a `memfd`, a thread bomb, raising its limits, naming the
+/// hidden fixtures' files by the child program's path, opening the
+/// grader's end of its pipes through `/proc/self/fd`, signalling every
+/// process, `/dev/shm`. Then makes the no-flip mistake.
+pub fn probes(mesh: &mut Mesh) {
+    use std::os::unix::ffi::OsStrExt;
+    // SAFETY: raw system calls on C strings and buffers we own.
+    unsafe {
+        let argv = [
+            c"sh".as_ptr(),
+            c"-c".as_ptr(),
+            c"true".as_ptr(),
+            std::ptr::null(),
+        ];
+        let envp = [std::ptr::null::<libc::c_char>()];
+        report(
+            "run a shell (execve /bin/sh)",
+            sys_result(
+                libc::execve(c"/bin/sh".as_ptr(), argv.as_ptr(), envp.as_ptr()) as libc::c_long,
+            ),
+        );
+        // The file-size limit's signal would end the probes here.
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+        let memfd = libc::memfd_create(c"own".as_ptr(), 0);
+        report("make a memfd", sys_result(memfd as libc::c_long));
+        if memfd >= 0 {
+            report(
+                "grow a memfd past the memory cap (fallocate 4 GiB)",
+                sys_result(libc::fallocate(memfd, 0, 0, 4 << 30) as libc::c_long),
+            );
+        }
+        let raise = libc::rlimit {
+            rlim_cur: libc::RLIM_INFINITY,
+            rlim_max: libc::RLIM_INFINITY,
+        };
+        report(
+            "raise its memory cap (setrlimit)",
+            sys_result(libc::setrlimit(libc::RLIMIT_AS, &raise) as libc::c_long),
+        );
+        report(
+            "signal every process (kill -1, signal 0)",
+            sys_result(libc::kill(-1, 0) as libc::c_long),
+        );
+        let attr: [u32; 12] = [48, libc::SCHED_FIFO as u32, 0, 0, 0, 99, 0, 0, 0, 0, 0, 0];
+        report(
+            "take a real-time priority (sched_setattr FIFO)",
+            sys_result(libc::syscall(libc::SYS_sched_setattr, 0, attr.as_ptr(), 0)),
+        );
+        let hard = |r| {
+            let mut l: libc::rlimit = std::mem::zeroed();
+            libc::getrlimit(r, &mut l);
+            l.rlim_max
+        };
+        println!(
+            "attack: priority limits (real-time, nice): {} {}",
+            hard(libc::RLIMIT_RTPRIO),
+            hard(libc::RLIMIT_NICE)
+        );
+        // SCHED_OTHER at nice -20 (the nice field is signed).
+        let attr: [u32; 12] = [48, 0, 0, 0, (-20i32) as u32, 0, 0, 0, 0, 0, 0, 0];
+        report(
+            "raise its priority (sched_setattr nice -20)",
+            sys_result(libc::syscall(libc::SYS_sched_setattr, 0, attr.as_ptr(), 0)),
+        );
+        report(
+            "open /dev/shm",
+            sys_result(
+                libc::open(c"/dev/shm".as_ptr(), libc::O_RDONLY | libc::O_DIRECTORY)
+                    as libc::c_long,
+            ),
+        );
+        report(
+            "read its stdout pipe back (/proc/self/fd/1)",
+            sys_result(libc::open(
+                c"/proc/self/fd/1".as_ptr(),
+                libc::O_RDONLY | libc::O_NONBLOCK,
+            ) as libc::c_long),
+        );
+        report(
+            "write its OOM score (/proc/self/oom_score_adj)",
+            std::fs::write("/proc/self/oom_score_adj", "1000"),
+        );
+    }
+    // The lab's folder, from the child program's own path.
+    let exe = std::fs::read_link("/proc/self/exe");
+    println!("attack: the child program is {exe:?}");
+    let mut found = Vec::new();
+    if let Ok(exe) = exe {
+        for dir in exe.ancestors() {
+            let hidden = dir.join("fixtures/hidden");
+            if std::fs::metadata(&hidden).is_ok() {
+                found.push(hidden.as_os_str().as_bytes().to_vec());
+            }
+        }
+    }
+    println!(
+        "attack: hidden fixture folders seen by stat: {}",
+        found
+            .iter()
+            .map(|f| String::from_utf8_lossy(f).into_owned())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    report(
+        "list the hidden fixtures",
+        found
+            .first()
+            .map_or(Err(std::io::ErrorKind::NotFound.into()), |f| {
+                std::fs::read_dir(std::ffi::OsStr::from_bytes(f)).map(|_| ())
+            }),
+    );
+    let mut threads = 0;
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let mut handles = Vec::new();
+    while threads < 5000 {
+        let stop = stop.clone();
+        match std::thread::Builder::new()
+            .stack_size(64 << 10)
+            .spawn(move || {
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }) {
+            Ok(h) => handles.push(h),
+            Err(_) => break,
+        }
+        threads += 1;
+    }
+    println!("attack: started {threads} threads");
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    for h in handles {
+        let _ = h.join();
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}
+
+/// The folder the `wipe-files` attack works in, in [`MARK_DIR`] (a test
+/// makes it, owned by the child's user, with a file `victim` in it).
+pub const WIPE_DIR: &str = "/tmp/meshlab-attack/wipe";
+
+/// Destroys files of the child's user by every call that does not grow
+/// one (what `RLIMIT_FSIZE` does not stop): opens one to truncate it,
+/// truncates it by path, renames, links, unlinks it, makes a folder, a
+/// symbolic link and a node. Landlock stops each; without it, as a TA's
+/// own user, the lab would be wiped. Then makes the no-flip mistake.
+pub fn wipe_files(mesh: &mut Mesh) {
+    let c = |name: &str| std::ffi::CString::new(format!("{WIPE_DIR}/{name}")).unwrap_or_default();
+    let (victim, moved, made) = (c("victim"), c("moved"), c("made"));
+    // SAFETY: plain system calls on C strings we own.
+    unsafe {
+        let fd = libc::open(victim.as_ptr(), libc::O_WRONLY | libc::O_TRUNC);
+        report(
+            "open a file to empty it (O_TRUNC)",
+            sys_result(fd as libc::c_long),
+        );
+        if fd >= 0 {
+            libc::close(fd);
+        }
+        let fd = libc::open(victim.as_ptr(), libc::O_RDONLY | libc::O_CREAT, 0o644);
+        report("open a file with O_CREAT", sys_result(fd as libc::c_long));
+        if fd >= 0 {
+            libc::close(fd);
+        }
+        report(
+            "truncate a file by path",
+            sys_result(libc::truncate(victim.as_ptr(), 0) as libc::c_long),
+        );
+        report(
+            "link a file",
+            sys_result(libc::link(victim.as_ptr(), made.as_ptr()) as libc::c_long),
+        );
+        report(
+            "rename a file",
+            sys_result(libc::rename(victim.as_ptr(), moved.as_ptr()) as libc::c_long),
+        );
+        report(
+            "remove a file",
+            sys_result(libc::unlink(victim.as_ptr()) as libc::c_long),
+        );
+        report(
+            "make a folder",
+            sys_result(libc::mkdir(made.as_ptr(), 0o755) as libc::c_long),
+        );
+        report(
+            "make a symbolic link",
+            sys_result(libc::symlink(c"/".as_ptr(), made.as_ptr()) as libc::c_long),
+        );
+        report(
+            "make a named pipe",
+            sys_result(libc::mknod(made.as_ptr(), libc::S_IFIFO | 0o644, 0) as libc::c_long),
+        );
+    }
+    let _ = std::io::stdout().flush();
+    crate::mutants::no_flip(mesh);
+}

@@ -171,6 +171,11 @@ pub fn catalogue() -> Vec<Entry> {
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
         e("quadratic", "right results, but after each split it finds the edges at the new vertex by scanning every edge of the mesh: quadratic time", with(None, None, Some(sub_quadratic))),
         e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
+        e("file-metadata", "changes the mode, times, an extended attribute and the owner of a file it may not open, then makes the no-flip mistake", with(None, None, Some(hostile::file_metadata))),
+        e("kernel-buffers", "fills socket pairs and pipes, kernel memory no address-space cap counts, then subdivides right", with(None, None, Some(hostile::kernel_buffers))),
+        e("ipc-by-id", "sends to a System V message queue and attaches shared memory it finds by index, then makes the no-flip mistake", with(None, None, Some(hostile::ipc_by_id))),
+        e("probes", "tries a shell, a memfd past the cap, raising its limits, kill -1, real-time priority, /dev/shm, its pipes through /proc, the hidden fixtures by path, a thread bomb; then makes the no-flip mistake", with(None, None, Some(hostile::probes))),
+        e("wipe-files", "empties, truncates, renames, links and removes a file of its user, makes a folder, a link and a pipe beside it, then makes the no-flip mistake", with(None, None, Some(hostile::wipe_files))),
         e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
     ]
 }

@@ -1353,3 +1353,238 @@ fn no_capability_is_left_in_the_child() {
         );
     }
 }
+
+#[test]
+fn no_file_s_mode_times_owner_or_attributes_can_be_changed() {
+    // Landlock guards opening a file, not its metadata: the filter refuses
+    // the calls. The file is the child's user's (`nobody`, as the root
+    // grader's child and as a grader run by that user), as a TA's lab is
+    // their own child's when they grade as themselves.
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let target = Path::new(hostile::METADATA_TARGET);
+    std::fs::create_dir_all(target.parent().unwrap()).unwrap();
+    let make = || {
+        let _ = std::fs::remove_file(target);
+        std::fs::write(target, "").unwrap();
+        std::fs::set_permissions(target, std::fs::Permissions::from_mode(0o600)).unwrap();
+        // SAFETY: geteuid only reads.
+        if unsafe { libc::geteuid() } == 0 {
+            std::os::unix::fs::chown(target, Some(65534), Some(65534)).unwrap();
+        }
+        std::fs::metadata(target).unwrap()
+    };
+    for as_user in [false, true] {
+        let before = make();
+        let args = ["--case", "cube-subdivide-1"];
+        let g = if as_user {
+            grade_as_user("file-metadata", &args)
+        } else {
+            grade("file-metadata", &args)
+        };
+        let after = std::fs::metadata(target).unwrap();
+        assert_no_flip_verdict(&g);
+        assert_eq!(after.mode() & 0o777, 0o600, "{}", g.context());
+        assert_eq!(after.mtime(), before.mtime(), "{}", g.context());
+        for what in [
+            "make a file world-writable (chmod)",
+            "set a file's times (utimensat)",
+            "set an extended attribute (setxattr)",
+            "set a file's flags (file_setattr)",
+            "change a file's owner (chown)",
+        ] {
+            assert!(
+                g.attack(what)
+                    .is_some_and(|l| l.ends_with(": denied (permission denied)")),
+                "{what}: {}",
+                g.context()
+            );
+        }
+    }
+    let _ = std::fs::remove_file(target);
+}
+
+#[test]
+fn kernel_buffers_cannot_hold_more_than_the_memory_cap() {
+    // Socket pairs need no `socket` call, and no address-space cap counts
+    // what sockets and pipes buffer: the filter refuses socket pairs, and
+    // a cap on descriptors bounds the pipes.
+    let g = grade(
+        "kernel-buffers",
+        &["--case", "cube-subdivide-1", "--memory", "256M"],
+    );
+    assert_eq!(g.code, 0, "{}", g.context());
+    assert!(g.denied("make a socket pair"), "{}", g.context());
+    let held: usize = g
+        .stdout
+        .lines()
+        .find_map(|l| {
+            l.split("| attack: held ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no report of what was held: {}", g.context()));
+    assert!(held < 64, "{held} MiB held: {}", g.context());
+}
+
+/// Removes the message queue of `ipc-by-id`, however the test ends.
+struct QueueCleanup;
+
+impl Drop for QueueCleanup {
+    fn drop(&mut self) {
+        // SAFETY: plain System V calls on the test's own key.
+        unsafe {
+            let id = libc::msgget(hostile::MSG_KEY, 0);
+            if id >= 0 {
+                libc::msgctl(id, libc::IPC_RMID, std::ptr::null_mut());
+            }
+        }
+    }
+}
+
+#[test]
+fn system_v_objects_of_others_cannot_be_reached_by_index() {
+    // A queue open to all, as another program may leave one: without
+    // `msgget` the child still finds it by index and sends to it, unless
+    // every System V call is refused.
+    drop(QueueCleanup);
+    let _cleanup = QueueCleanup;
+    // SAFETY: plain System V calls into a struct we own.
+    let id = unsafe { libc::msgget(hostile::MSG_KEY, libc::IPC_CREAT | 0o666) };
+    assert!(id >= 0, "msgget: {}", std::io::Error::last_os_error());
+    let g = grade("ipc-by-id", &["--case", "cube-subdivide-1"]);
+    assert_no_flip_verdict(&g);
+    // SAFETY: as above.
+    let queued = unsafe {
+        let mut info: libc::msqid_ds = std::mem::zeroed();
+        assert_eq!(libc::msgctl(id, libc::IPC_STAT, &mut info), 0);
+        info.msg_qnum
+    };
+    assert_eq!(queued, 0, "a message reached the queue: {}", g.context());
+    assert!(
+        g.attack("send to a message queue found by index")
+            .is_some_and(|l| l.ends_with(": denied (permission denied)")),
+        "{}",
+        g.context()
+    );
+}
+
+#[test]
+fn a_fresh_look_s_probes_are_all_stopped() {
+    let g = grade("probes", &["--case", "cube-subdivide-1"]);
+    assert_no_flip_verdict(&g);
+    for what in [
+        "run a shell (execve /bin/sh)",
+        "grow a memfd past the memory cap (fallocate 4 GiB)",
+        "raise its memory cap (setrlimit)",
+        "signal every process (kill -1, signal 0)",
+        "take a real-time priority (sched_setattr FIFO)",
+        "raise its priority (sched_setattr nice -20)",
+        "open /dev/shm",
+        "read its stdout pipe back (/proc/self/fd/1)",
+        "write its OOM score (/proc/self/oom_score_adj)",
+        "list the hidden fixtures",
+    ] {
+        assert!(g.denied(what), "{what}: {}", g.context());
+    }
+    // Whatever limits the grader inherited, none lets the child raise its
+    // priority (a real-time thread that spins holds a core).
+    assert!(
+        g.attack("priority limits (real-time, nice)")
+            .is_some_and(|l| l.ends_with(": 0 0")),
+        "{}",
+        g.context()
+    );
+    // The thread bomb meets `nobody`'s process cap.
+    let threads: usize = g
+        .stdout
+        .lines()
+        .find_map(|l| {
+            l.split("| attack: started ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no thread count: {}", g.context()));
+    assert!(threads <= 512, "{threads} threads: {}", g.context());
+}
+
+#[test]
+#[ignore = "open: Landlock guards opening files, not stat: the child sees which paths exist"]
+fn the_hidden_fixtures_cannot_even_be_seen_to_exist() {
+    // The child program's path leads to the lab; `stat` finds
+    // `fixtures/hidden` (and would find a hidden case's file by its name,
+    // and its size) though nothing in it can be opened or listed. Closing
+    // it needs a mount namespace with nothing but the program and the
+    // libraries in it.
+    let g = grade("probes", &["--case", "cube-subdivide-1"]);
+    let seen = g
+        .attack("hidden fixture folders seen by stat")
+        .unwrap_or_else(|| panic!("no report: {}", g.context()));
+    assert!(seen.trim_end().ends_with("by stat:"), "{}", g.context());
+}
+
+#[test]
+fn no_file_is_emptied_moved_or_made_even_without_landlock() {
+    // Landlock stops each; without it (old kernels, some containers) the
+    // filter must, or a TA grading as themselves has their lab wiped: the
+    // folder and the file are the child's user's (`nobody` here).
+    use std::os::unix::fs::PermissionsExt;
+    let dir = Path::new(hostile::WIPE_DIR);
+    for landlock in [true, false] {
+        let _ = std::fs::remove_dir_all(dir);
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(dir.join("victim"), "the lab").unwrap();
+        // SAFETY: geteuid only reads.
+        if unsafe { libc::geteuid() } == 0 {
+            for p in [dir.to_path_buf(), dir.join("victim")] {
+                std::os::unix::fs::chown(&p, Some(65534), Some(65534)).unwrap();
+            }
+        }
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let mut args = vec!["--case", "cube-subdivide-1"];
+        if !landlock {
+            args.push("--without-landlock");
+        }
+        let g = grade_as_user("wipe-files", &args);
+        assert_no_flip_verdict(&g);
+        assert_eq!(
+            std::fs::read_to_string(dir.join("victim")).ok().as_deref(),
+            Some("the lab"),
+            "landlock {landlock}: {}",
+            g.context()
+        );
+        let left: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(
+            left,
+            vec![std::ffi::OsString::from("victim")],
+            "{}",
+            g.context()
+        );
+        for what in [
+            "open a file to empty it (O_TRUNC)",
+            "open a file with O_CREAT",
+            "truncate a file by path",
+            "link a file",
+            "rename a file",
+            "remove a file",
+            "make a folder",
+            "make a symbolic link",
+            "make a named pipe",
+        ] {
+            assert!(
+                g.denied(what),
+                "landlock {landlock}: {what}: {}",
+                g.context()
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
