@@ -1262,7 +1262,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     let full = rows.iter().filter(|r| r.score == r.max).count();
     assert!(full >= 1, "bob has full marks");
     assert!(
-        page.contains(&format!("19 submissions; mean"))
+        page.contains("19 submissions; mean")
             && page.contains(&format!("; {full} with full marks")),
         "{page}"
     );

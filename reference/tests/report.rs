@@ -178,29 +178,36 @@ document.getElementById('f').onload = function () {
 </script>
 "#;
 
-/// Loads `report/index.html` through the probe and returns what it read.
-fn probe(report: &Path) -> Value {
-    std::fs::write(report.join("probe.html"), PROBE).unwrap();
-    let url = format!("file://{}", report.join("probe.html").display());
+/// What a probe page at `url` wrote into its `<pre id="probe">`, once
+/// headless Chromium (a window `height` pixels high) has laid it out.
+fn probe_text(report: &Path, url: &str, height: u32) -> String {
+    let window = format!("--window-size=1500,{height}");
     let dom = browse(
         report,
         &[
             "--allow-file-access-from-files",
             "--virtual-time-budget=10000",
-            "--window-size=1500,1000",
+            &window,
             "--dump-dom",
         ],
-        &url,
+        url,
     );
     let start = dom
         .find("<pre id=\"probe\">")
         .expect("the probe is in the DOM")
         + 16;
     let end = start + dom[start..].find("</pre>").expect("the probe ends");
-    let text = dom[start..end]
+    dom[start..end]
         .replace("&lt;", "<")
         .replace("&gt;", ">")
-        .replace("&amp;", "&");
+        .replace("&amp;", "&")
+}
+
+/// Loads `report/index.html` through the probe and returns what it read.
+fn probe(report: &Path) -> Value {
+    std::fs::write(report.join("probe.html"), PROBE).unwrap();
+    let url = format!("file://{}", report.join("probe.html").display());
+    let text = probe_text(report, &url, 1000);
     assert!(
         !text.starts_with("ERROR") && text != "not run",
         "the probe could not read the report: {text}"
@@ -509,25 +516,7 @@ fn inspect(report: &Path, name: &str, steps: Value, shot: &str) -> Value {
         })
         .collect();
     let url = format!("file://{}#{hash}", report.join("inspect.html").display());
-    let dom = browse(
-        report,
-        &[
-            "--allow-file-access-from-files",
-            "--virtual-time-budget=10000",
-            "--window-size=1500,1300",
-            "--dump-dom",
-        ],
-        &url,
-    );
-    let start = dom
-        .find("<pre id=\"probe\">")
-        .expect("the probe is in the DOM")
-        + 16;
-    let end = start + dom[start..].find("</pre>").expect("the probe ends");
-    let text = dom[start..end]
-        .replace("&lt;", "<")
-        .replace("&gt;", ">")
-        .replace("&amp;", "&");
+    let text = probe_text(report, &url, 1300);
     assert!(
         !text.starts_with("ERROR") && text != "not run",
         "the inspector probe failed: {text}"
