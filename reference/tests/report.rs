@@ -658,6 +658,24 @@ fn invalid_report(
     result: halfedge::Mesh,
 ) -> grader::grade::CaseReport {
     let problem = result.validate().expect_err("the result is broken");
+    failed_report(
+        f,
+        input,
+        result,
+        format!("the result of split_edge is a invalid mesh: {problem}"),
+        vec![grader::grade::Named::seen(problem.element)],
+    )
+}
+
+/// A failed case as the grader reports it: one warning `text` about
+/// `elements`, the input as sent and the student's `result`.
+fn failed_report(
+    f: &grader::fixture::Fixture,
+    input: halfedge::Mesh,
+    result: halfedge::Mesh,
+    text: String,
+    elements: Vec<grader::grade::Named>,
+) -> grader::grade::CaseReport {
     grader::grade::CaseReport {
         name: f.name.clone(),
         object: f.object.clone(),
@@ -666,9 +684,9 @@ fn invalid_report(
         passed: false,
         entries: vec![grader::grade::Entry {
             level: grader::grade::Level::Warn,
-            text: format!("the result of split_edge is a invalid mesh: {problem}"),
+            text,
             quote: None,
-            elements: vec![grader::grade::Named::seen(problem.element)],
+            elements,
             hint: None,
             file: file!(),
             line: line!(),
@@ -900,34 +918,7 @@ fn invalid_like(
     input: halfedge::Mesh,
     result: halfedge::Mesh,
 ) -> grader::grade::CaseReport {
-    grader::grade::CaseReport {
-        name: f.name.clone(),
-        object: f.object.clone(),
-        group: f.group,
-        stage: f.operation.stage(),
-        passed: false,
-        entries: vec![grader::grade::Entry {
-            level: grader::grade::Level::Warn,
-            text: String::new(),
-            quote: None,
-            elements: Vec::new(),
-            hint: None,
-            file: file!(),
-            line: line!(),
-        }],
-        output: grader::quoted::Quoted::new(String::new()),
-        timed_out: false,
-        input: Some(input),
-        result: Some(result),
-        hint: None,
-        hint_id: None,
-        end: grader::grade::CaseEnd::JudgeFailed,
-        comparison: None,
-        invalid: None,
-        labelling: None,
-        pointer: None,
-        frames: None,
-    }
+    failed_report(f, input, result, String::new(), Vec::new())
 }
 
 /// The heaviest report a student can get: every case of the lab (lab,
