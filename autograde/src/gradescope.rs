@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use grader::build_sandbox::{Build, Outcome as BuildOutcome};
+use grader::isolate::build_sandbox::{Build, Outcome as BuildOutcome};
 use serde_json::{json, Value};
 
 use crate::grade::{self, Grading, PROGRAMS};
@@ -427,7 +427,7 @@ fn grade_in(
     if built.log.contains("warning") {
         notes.push(format!(
             "Your code compiles with warnings:\n\n{}\n",
-            grader::quoted::Quoted::new(compiler).block("")
+            grader::report::quoted::Quoted::new(compiler).block("")
         ));
     }
     // Root runs copies in a folder of its own: the build user (who is also

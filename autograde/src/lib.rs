@@ -17,7 +17,7 @@ pub mod upload;
 
 use std::path::Path;
 
-use grader::quoted::{self, Quoted};
+use grader::report::quoted::{self, Quoted};
 
 /// A new folder only this user may enter (it fails if the name is taken:
 /// nobody else's folder or link is ever used).

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use grader::build_sandbox::{Build, Outcome as BuildOutcome};
+use grader::isolate::build_sandbox::{Build, Outcome as BuildOutcome};
 
 use crate::grade::{self, Grading};
 use crate::platform::Outcome;
@@ -126,7 +126,7 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
             let notes = if built.log.contains("warning") {
                 vec![format!(
                     "Your code compiles with warnings:\n\n{}",
-                    grader::quoted::Quoted::new(compiler).block("")
+                    grader::report::quoted::Quoted::new(compiler).block("")
                 )]
             } else {
                 Vec::new()

@@ -232,7 +232,7 @@ fn run(args: Vec<String>) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    grader::build_sandbox::launch_if_asked();
+    grader::isolate::build_sandbox::launch_if_asked();
     autograde::process::reap_if_asked();
     match run(std::env::args().skip(1).collect()) {
         Ok(()) => ExitCode::SUCCESS,

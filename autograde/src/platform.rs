@@ -228,7 +228,7 @@ fn first_failures(run: &StageRun) -> Vec<String> {
         .iter()
         .filter(|c| c["passed"] == false)
         .map(|c| {
-            grader::quoted::one_line(&format!(
+            grader::report::quoted::one_line(&format!(
                 "{}: {}",
                 c["name"].as_str().unwrap_or("?"),
                 c["first_warning"].as_str().unwrap_or("failed")

@@ -6,23 +6,17 @@
 //! the expected answer: it gets the input mesh over a pipe and sends the
 //! resulting mesh back; the verdict is reached here, in the parent.
 //!
-//! - [`fixture`]: the case format, shared with the reference's generator;
-//!   [`digest`]: the fixtures' SHA-256 list.
-//! - [`relabel`]: the same input with other ids and pointers, so that
-//!   order-dependent bugs show.
-//! - [`wire`]: what crosses the pipes; [`sandbox`]: the launcher that locks
-//!   the child in; [`runner`]: starting, timing and killing the child.
-//! - [`child`]: the child's side ([`child::serve`]) and the parent's
-//!   reading of its result ([`child::analyze`]).
-//! - [`matching`]: order-independent comparison of vertices and edges.
-//! - [`grade`]: the verdict and messages for one case, and its findings
-//!   as data; [`frames`]: the step-through of a recorded subdivision.
-//! - [`report`]: text, JSON and Gradescope output; [`quoted`]: how
-//!   anything the student's code said is shown (as data, under `| `).
-//! - [`scaling`]: `loop_subdivide` timed on two sizes, to catch quadratic
-//!   code (a warning, not counted).
-//! - [`build_sandbox`]: the launcher that locks a student's build in (used
-//!   by the TA's class grading and the Gradescope bundle).
+//! The crate is laid out by job:
+//!
+//! - [`isolate`]: locking the child in and running it (launcher, seccomp
+//!   filter, runner, wire format, the child's side); also the build's
+//!   lock-in.
+//! - [`judge`]: fixtures, relabelling, matching and the verdict of a case,
+//!   with its findings as data.
+//! - [`report`]: text, JSON, Gradescope and HTML renderings of those
+//!   findings.
+//! - [`trial`] (`grader try`) and [`watch`] (`--watch`): the student's own
+//!   meshes and the edit loop.
 //!
 //! Two programs: `grader` (`main.rs`, the parent and launcher; this package
 //! does not depend on the student's crate) and `grader-child` (its own
@@ -35,25 +29,16 @@ compile_error!(
      on Windows, work in WSL (Windows Subsystem for Linux)"
 );
 
-pub mod build_sandbox;
-pub mod child;
-pub mod digest;
-pub mod fixture;
-pub mod frames;
-pub mod grade;
-pub mod html;
-pub mod matching;
-pub mod quoted;
-pub mod relabel;
+pub mod isolate;
+pub mod judge;
 pub mod report;
-pub mod runner;
-pub mod sandbox;
-pub mod scaling;
-pub mod seccomp;
 pub mod trial;
 #[cfg(unix)]
 pub mod watch;
-pub mod wire;
+
+use isolate::{child, runner, sandbox, wire};
+use judge::{fixture, frames, grade, relabel, scaling};
+use report::html;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -63,7 +48,7 @@ use std::time::Duration;
 use clap::{Parser, ValueEnum};
 use halfedge::{EdgeId, Mesh, VertexId};
 
-use crate::fixture::{Fixture, Operation, Stage};
+use crate::judge::fixture::{Fixture, Operation, Stage};
 
 /// The three functions being graded.
 #[derive(Clone, Copy)]

@@ -8,7 +8,7 @@
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    grader::sandbox::launch_if_asked();
-    grader::build_sandbox::launch_if_asked();
+    grader::isolate::sandbox::launch_if_asked();
+    grader::isolate::build_sandbox::launch_if_asked();
     grader::main_with(grader::student_child_program)
 }

@@ -12,10 +12,11 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use halfedge::Mesh;
 
-use crate::child::{self, Outcome, Returned};
-use crate::runner::{self, ChildProgram, Exit};
-use crate::wire::{self, Op};
-use crate::{parse_memory, sandbox};
+use crate::isolate::child::{self, Outcome, Returned};
+use crate::isolate::runner::{self, ChildProgram, Exit};
+use crate::isolate::sandbox;
+use crate::isolate::wire::{self, Op};
+use crate::parse_memory;
 
 /// The most faces `try` will subdivide into unless `--max-faces` says more.
 const MAX_FACES: u64 = 5_000_000;
@@ -130,7 +131,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
     let (Some(dir), Some(input)) = (&cli.report, &seen.input) else {
         return code;
     };
-    let page = crate::html::TrialPage {
+    let page = crate::report::html::TrialPage {
         title: seen.title.clone(),
         lines: SAID.with(|s| s.borrow().clone()),
         output: seen.output.clone(),
@@ -138,7 +139,7 @@ pub fn run_try(cli: &TryCli, program: &ChildProgram) -> ExitCode {
         result: seen.result.as_ref(),
         edge: seen.edge,
     };
-    match crate::html::write_trial_report(dir, &page) {
+    match crate::report::html::write_trial_report(dir, &page) {
         Ok(index) => {
             println!(
                 "trial.rs:{} [info] the page: open {} in a browser",
@@ -243,7 +244,7 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
     seen.output = raw.output.clone();
     print!(
         "{}",
-        crate::quoted::Quoted::new(raw.output.clone()).block("    ")
+        crate::report::quoted::Quoted::new(raw.output.clone()).block("    ")
     );
     let ran = match raw.exit {
         Exit::Finished(ran) => ran,
@@ -264,13 +265,16 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
         // `try` sends one operation, never a sequence.
         Outcome::Sequence { .. } => ExitCode::from(1),
         Outcome::Panicked { message, location } => {
-            let message = crate::quoted::Quoted::new(message);
+            let message = crate::report::quoted::Quoted::new(message);
             say!(true, &format!("{function} panicked: {}", message.inline()));
             if !message.fits_inline() {
                 print!("{}", message.block("        "));
             }
             if let Some(l) = location {
-                println!("        at {}", crate::quoted::Quoted::new(l).inline());
+                println!(
+                    "        at {}",
+                    crate::report::quoted::Quoted::new(l).inline()
+                );
             }
             ExitCode::from(1)
         }

@@ -5,10 +5,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use grader::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
-use grader::fixture::{self, Fixture, Returns};
-use grader::grade::{judge, CaseReport, Level};
-use grader::runner::{ChildReport, Run};
+use grader::isolate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
+use grader::isolate::runner::{ChildReport, Run};
+use grader::judge::fixture::{self, Fixture, Returns};
+use grader::judge::grade::{judge, CaseReport, Level};
 
 fn fixtures_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
@@ -136,7 +136,7 @@ fn finished(
         run: Run::Done(Outcome::Finished {
             before: input_counts(f),
             after,
-            invalid: invalid.map(grader::child::Problem::of),
+            invalid: invalid.map(grader::isolate::child::Problem::of),
             mesh: mesh.map(Box::new),
             // A refusal that returns None is taken to have left the mesh alone.
             unchanged: returned == Returned::Nothing,

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use grader::fixture::{
+use grader::judge::fixture::{
     self, Expected, Fixture, Group, MeshData, Mistake, Operation, Returns, Step, WeightRule, SCHEMA,
 };
 use halfedge::{shapes, EdgeId, Mesh};
@@ -108,7 +108,7 @@ pub const SEQUENCE_LENGTH: (usize, usize) = (10, 30);
 /// ones), else any edge. Vertices are named as in [`Step`]: the
 /// reference's split appends its vertex, so its id is that name.
 pub fn draw_sequence(input: &Mesh, seed: u64) -> Vec<Step> {
-    let mut rng = grader::relabel::Rng::new(seed);
+    let mut rng = grader::judge::relabel::Rng::new(seed);
     let (lo, hi) = SEQUENCE_LENGTH;
     let length = lo + rng.below(hi - lo + 1);
     let mut mesh = input.clone();
@@ -139,7 +139,7 @@ pub fn draw_sequence(input: &Mesh, seed: u64) -> Vec<Step> {
 /// A sequence case on `mesh`, its seed fixed by its name.
 fn sequence_case(name: &str, object: &str, group: Group, mesh: &Mesh, weights: Weights) -> Case {
     // 32 bits: short enough to read out of a message.
-    let seed = grader::relabel::default_seed(name) & 0xffff_ffff;
+    let seed = grader::judge::relabel::default_seed(name) & 0xffff_ffff;
     Case {
         steps: draw_sequence(mesh, seed),
         ..case(
@@ -708,7 +708,7 @@ fn mistake_of(
     }
     let ps = positions(mesh);
     let edges = sorted_edges(mesh);
-    let moved = !grader::matching::same_positions(&ps, &expected.positions, tolerance);
+    let moved = !grader::judge::matching::same_positions(&ps, &expected.positions, tolerance);
     let relinked = edges != expected.edges;
     if !(moved || relinked) {
         return None;
@@ -814,8 +814,10 @@ pub fn write_sums(root: &Path) -> Result<(), String> {
             })
             .collect::<Result<_, String>>()?;
         if !listed.is_empty() {
-            let path = root.join(group.name()).join(grader::digest::SUMS_FILE);
-            std::fs::write(&path, grader::digest::sums_text(&listed))
+            let path = root
+                .join(group.name())
+                .join(grader::judge::digest::SUMS_FILE);
+            std::fs::write(&path, grader::judge::digest::sums_text(&listed))
                 .map_err(|e| format!("{}: {e}", path.display()))?;
         }
     }
@@ -855,8 +857,8 @@ pub fn render_all(root: &Path, weights: Weights) -> Result<Vec<(PathBuf, String)
             .collect();
         if !listed.is_empty() {
             sums.push((
-                Path::new(group.name()).join(grader::digest::SUMS_FILE),
-                grader::digest::sums_text(&listed),
+                Path::new(group.name()).join(grader::judge::digest::SUMS_FILE),
+                grader::judge::digest::sums_text(&listed),
             ));
         }
     }

@@ -11,7 +11,7 @@
 //!
 //! Compiling is running the student's code (`include_str!`, `env!`): every
 //! build goes through the grader's build launcher
-//! ([`grader::build_sandbox`]), which lets it read only the toolchain, the
+//! ([`grader::isolate::build_sandbox`]), which lets it read only the toolchain, the
 //! vendored dependencies and that copy, write only its target folder (in a
 //! folder of its own outside the lab, under a name nobody can guess), with
 //! an environment of its own, no network, a memory cap and a time limit. So
@@ -25,8 +25,8 @@ use std::time::Instant;
 use autograde::grade::{self, STAGES};
 use autograde::platform;
 use autograde::upload::{find_lib_rs, is_link};
-use grader::build_sandbox::{Build, Outcome};
-use grader::quoted::{self, Quoted};
+use grader::isolate::build_sandbox::{Build, Outcome};
+use grader::report::quoted::{self, Quoted};
 
 use crate::handout::{self, Purpose};
 
@@ -130,7 +130,7 @@ pub struct Options {
     /// folder, removed at the end (the dependencies then compile afresh).
     pub build_dir: Option<PathBuf>,
     /// The program that locks builds in: one whose `main` calls
-    /// [`grader::build_sandbox::launch_if_asked`] (the reference binary).
+    /// [`grader::isolate::build_sandbox::launch_if_asked`] (the reference binary).
     pub launcher: PathBuf,
     /// The memory cap of each compiler process, in bytes.
     pub build_memory: u64,

@@ -16,7 +16,7 @@
 
 use std::path::Path;
 
-use grader::fixture::{self, Group, Operation};
+use grader::judge::fixture::{self, Group, Operation};
 use halfedge::{shapes, DVec3, EdgeId, Mesh};
 
 use crate::cases::{self, Case};
@@ -51,7 +51,7 @@ pub fn seed_for(secret: &[u8], submission: &[u8]) -> u64 {
     bytes.extend_from_slice(secret);
     bytes.push(0);
     bytes.extend_from_slice(submission);
-    let hex = grader::digest::sha256_hex(&bytes);
+    let hex = grader::judge::digest::sha256_hex(&bytes);
     u64::from_str_radix(&hex[..16], 16).expect("hex digits")
 }
 
@@ -60,7 +60,9 @@ pub fn seed_for(secret: &[u8], submission: &[u8]) -> u64 {
 /// changes every seed). Without hidden cases there is no secret to keep,
 /// and grading says so rather than inventing one.
 pub fn secret_of(fixtures: &Path) -> Result<Vec<u8>, String> {
-    let path = fixtures.join("hidden").join(grader::digest::SUMS_FILE);
+    let path = fixtures
+        .join("hidden")
+        .join(grader::judge::digest::SUMS_FILE);
     std::fs::read(&path).map_err(|e| {
         format!(
             "{}: cannot read the hidden cases' digest list, the secret fresh cases are \
@@ -196,8 +198,9 @@ pub fn write(dir: &Path, seed: u64, weights: Weights) -> Result<usize, String> {
                 files.push((name, std::fs::read(&path).map_err(|e| io(e, &path))?));
             }
         }
-        let sums = folder.join(grader::digest::SUMS_FILE);
-        std::fs::write(&sums, grader::digest::sums_text(&files)).map_err(|e| io(e, &sums))?;
+        let sums = folder.join(grader::judge::digest::SUMS_FILE);
+        std::fs::write(&sums, grader::judge::digest::sums_text(&files))
+            .map_err(|e| io(e, &sums))?;
     }
     Ok(cases.len())
 }

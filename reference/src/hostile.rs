@@ -101,8 +101,8 @@ pub fn tamper(mesh: &mut Mesh) {
 /// every descriptor it might find the grader's channel on, then exits.
 pub fn forge_frames(mesh: &mut Mesh) {
     use std::os::fd::FromRawFd;
-    let frame = grader::wire::result_frame(&grader::wire::Ran::Returned {
-        answer: grader::wire::Answer::Unit,
+    let frame = grader::isolate::wire::result_frame(&grader::isolate::wire::Ran::Returned {
+        answer: grader::isolate::wire::Answer::Unit,
         mesh: mesh.clone(),
         recorded: None,
     });
@@ -608,8 +608,8 @@ pub fn crafted_frame(mesh: &mut Mesh) {
     v[0].pos.z = -0.0;
     f[0].halfedge = halfedge::HalfedgeId(u32::MAX - 1);
     let forged = Mesh::from_records(v, e, f, h);
-    let frame = grader::wire::result_frame(&grader::wire::Ran::Returned {
-        answer: grader::wire::Answer::Unit,
+    let frame = grader::isolate::wire::result_frame(&grader::isolate::wire::Ran::Returned {
+        answer: grader::isolate::wire::Answer::Unit,
         mesh: forged,
         recorded: None,
     });
@@ -752,7 +752,7 @@ pub fn root_powers(mesh: &mut Mesh) {
 pub fn fake_sandbox_failure(mesh: &mut Mesh) {
     let _ = mesh;
     eprintln!("grader sandbox: Landlock: this kernel refused the ruleset (tell your TA)");
-    std::process::exit(grader::sandbox::LAUNCH_FAILED);
+    std::process::exit(grader::isolate::sandbox::LAUNCH_FAILED);
 }
 
 /// The grader's summary and verdict as a passing run prints them.
@@ -806,7 +806,7 @@ fn grader_pid() -> Option<i32> {
     for _ in 0..3 {
         let is_launcher = std::fs::read(format!("/proc/{pid}/cmdline")).is_ok_and(|raw| {
             raw.split(|&b| b == 0)
-                .any(|a| a == grader::sandbox::LAUNCH_ARG.as_bytes())
+                .any(|a| a == grader::isolate::sandbox::LAUNCH_ARG.as_bytes())
         });
         if !is_launcher {
             break;

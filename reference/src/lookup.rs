@@ -9,7 +9,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use grader::fixture::Group;
+use grader::judge::fixture::Group;
 use halfedge::{EdgeId, Mesh, VertexId};
 
 use crate::cases;

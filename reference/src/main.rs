@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use grader::fixture::{self, Group, MeshData, Operation};
+use grader::judge::fixture::{self, Group, MeshData, Operation};
 use halfedge::Mesh;
 use reference::cases::{self, Case};
 use reference::solution::{self, Weights};
@@ -302,8 +302,8 @@ fn fail(message: impl std::fmt::Display) -> ExitCode {
 }
 
 fn main() -> ExitCode {
-    grader::sandbox::launch_if_asked();
-    grader::build_sandbox::launch_if_asked();
+    grader::isolate::sandbox::launch_if_asked();
+    grader::isolate::build_sandbox::launch_if_asked();
     // Class grading runs each stage's grader under this program as a reaper.
     autograde::process::reap_if_asked();
     let cli = Cli::parse();
@@ -530,8 +530,8 @@ fn find_implementation(name: &str) -> Result<mutants::Entry, String> {
 }
 
 /// The child program for `implementation`: this program again, serving it.
-fn serving(implementation: String) -> Result<grader::runner::ChildProgram, String> {
-    Ok(grader::runner::ChildProgram {
+fn serving(implementation: String) -> Result<grader::isolate::runner::ChildProgram, String> {
+    Ok(grader::isolate::runner::ChildProgram {
         exe: std::env::current_exe().map_err(|e| e.to_string())?,
         args: vec![
             "serve-case".into(),
@@ -826,7 +826,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
         }
         Command::ServeCase { implementation } => {
             let entry = find_implementation(&implementation)?;
-            grader::child::serve(&entry.imp)
+            grader::isolate::child::serve(&entry.imp)
         }
         Command::Bench {
             runs,
@@ -925,7 +925,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 build_dir: build_dir.map(|d| here.join(d)),
                 // This program: its main starts the build launcher.
                 launcher: std::env::current_exe().map_err(|e| e.to_string())?,
-                build_memory: grader::build_sandbox::DEFAULT_MEMORY,
+                build_memory: grader::isolate::build_sandbox::DEFAULT_MEMORY,
                 build_seconds: None,
                 fresh: !no_fresh,
                 progress: !quiet,

@@ -19,7 +19,7 @@
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
-use grader::quoted;
+use grader::report::quoted;
 
 use crate::tokens;
 

@@ -4,6 +4,7 @@
 
 mod common;
 use common::lab_root;
+use std::path::{Path, PathBuf};
 
 /// The text of a Rust string literal starting at `s[i]` (a `"`), escapes
 /// and line continuations resolved, and the index past it.
@@ -119,11 +120,19 @@ fn read(path: &str) -> String {
 }
 
 fn rust_files(dir: &str) -> Vec<(String, String)> {
-    let mut files: Vec<_> = std::fs::read_dir(lab_root().join(dir))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "rs"))
-        .collect();
+    // Recursive: the grader is laid out in folders by job.
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|x| x == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(&lab_root().join(dir), &mut files);
     files.sort();
     files
         .iter()
@@ -198,17 +207,17 @@ fn warnings() -> Vec<(String, String)> {
     // The grader's own hints are ids (`GraderHint`) whose words
     // `Hint::text` gives.
     for m in arm_strings(
-        "grader/src/grade.rs",
+        "grader/src/judge/grade.rs",
         "pub fn text(&self, f: &Fixture)",
         "GraderHint::",
     ) {
-        out.push(("grader/src/grade.rs".into(), m));
+        out.push(("grader/src/judge/grade.rs".into(), m));
     }
-    let scaling = read("grader/src/scaling.rs");
+    let scaling = read("grader/src/judge/scaling.rs");
     for a in calls(&scaling, "format!") {
         if let Some(m) = a.first().and_then(first) {
             if m.starts_with("loop_subdivide") {
-                out.push(("grader/src/scaling.rs".into(), m));
+                out.push(("grader/src/judge/scaling.rs".into(), m));
             }
         }
     }

@@ -1500,7 +1500,7 @@ fn without_landlock_dev_zero_meets_the_memory_cap_by_name() {
         "the class tests vendor the dependencies"
     );
     let status = dir.join("status");
-    let build = grader::build_sandbox::Build {
+    let build = grader::isolate::build_sandbox::Build {
         lab: lab.clone(),
         vendor: build_dir.join("vendor"),
         sysroot: String::from_utf8_lossy(&sysroot.stdout).trim().into(),
@@ -1518,10 +1518,10 @@ fn without_landlock_dev_zero_meets_the_memory_cap_by_name() {
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    let report = grader::build_sandbox::Report::read(&status).unwrap();
+    let report = grader::isolate::build_sandbox::Report::read(&status).unwrap();
     assert_eq!(
         report.outcome,
-        grader::build_sandbox::Outcome::OutOfMemory,
+        grader::isolate::build_sandbox::Outcome::OutOfMemory,
         "{stderr}"
     );
     assert!(

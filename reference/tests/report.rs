@@ -653,37 +653,37 @@ fn the_inspector_walks_a_wrong_flip_by_click_and_keys() {
 /// The grader's judgement of a split's result, as the child's report would
 /// give it: the first `validate()` problem.
 fn invalid_report(
-    f: &grader::fixture::Fixture,
+    f: &grader::judge::fixture::Fixture,
     input: halfedge::Mesh,
     result: halfedge::Mesh,
-) -> grader::grade::CaseReport {
+) -> grader::judge::grade::CaseReport {
     let problem = result.validate().expect_err("the result is broken");
     failed_report(
         f,
         input,
         result,
         format!("the result of split_edge is a invalid mesh: {problem}"),
-        vec![grader::grade::Named::seen(problem.element)],
+        vec![grader::judge::grade::Named::seen(problem.element)],
     )
 }
 
 /// A failed case as the grader reports it: one warning `text` about
 /// `elements`, the input as sent and the student's `result`.
 fn failed_report(
-    f: &grader::fixture::Fixture,
+    f: &grader::judge::fixture::Fixture,
     input: halfedge::Mesh,
     result: halfedge::Mesh,
     text: String,
-    elements: Vec<grader::grade::Named>,
-) -> grader::grade::CaseReport {
-    grader::grade::CaseReport {
+    elements: Vec<grader::judge::grade::Named>,
+) -> grader::judge::grade::CaseReport {
+    grader::judge::grade::CaseReport {
         name: f.name.clone(),
         object: f.object.clone(),
         group: f.group,
         stage: f.operation.stage(),
         passed: false,
-        entries: vec![grader::grade::Entry {
-            level: grader::grade::Level::Warn,
+        entries: vec![grader::judge::grade::Entry {
+            level: grader::judge::grade::Level::Warn,
             text,
             quote: None,
             elements,
@@ -691,13 +691,13 @@ fn failed_report(
             file: file!(),
             line: line!(),
         }],
-        output: grader::quoted::Quoted::new(String::new()),
+        output: grader::report::quoted::Quoted::new(String::new()),
         timed_out: false,
         input: Some(input),
         result: Some(result),
         hint: None,
         hint_id: None,
-        end: grader::grade::CaseEnd::JudgeFailed,
+        end: grader::judge::grade::CaseEnd::JudgeFailed,
         comparison: None,
         invalid: None,
         labelling: None,
@@ -706,8 +706,8 @@ fn failed_report(
     }
 }
 
-fn lab_fixture(name: &str) -> grader::fixture::Fixture {
-    grader::fixture::load_all(&common::lab_root().join("fixtures"))
+fn lab_fixture(name: &str) -> grader::judge::fixture::Fixture {
+    grader::judge::fixture::load_all(&common::lab_root().join("fixtures"))
         .expect("the fixtures load")
         .into_iter()
         .find(|f| f.name == name)
@@ -727,14 +727,14 @@ fn a_split_failing_on_a_relabelled_input_shows_both_numberings() {
         .unwrap()
         .imp
         .split_edge;
-    let fails = |l: &grader::relabel::Labelling| {
+    let fails = |l: &grader::judge::relabel::Labelling| {
         let mut m = l.mesh.clone();
         split(&mut m, l.edge.unwrap());
         let permuted = l.vertices.iter().enumerate().any(|(i, v)| v.index() != i);
-        l.kind == grader::relabel::Kind::Random && permuted && m.validate().is_err()
+        l.kind == grader::judge::relabel::Kind::Random && permuted && m.validate().is_err()
     };
     let l = (0..200)
-        .flat_map(|seed| grader::relabel::labellings(&input, f.edge_in(&input), seed, 2))
+        .flat_map(|seed| grader::judge::relabel::labellings(&input, f.edge_in(&input), seed, 2))
         .find(fails)
         .expect("a random labelling the mistake fails on");
     let mut result = l.mesh.clone();
@@ -742,7 +742,7 @@ fn a_split_failing_on_a_relabelled_input_shows_both_numberings() {
     let mut report = invalid_report(&f, l.mesh.clone(), result);
     // As the grader reports a case that failed only there: the labelling's
     // facts, and each named element in both numberings.
-    report.labelling = Some(grader::grade::LabellingFacts {
+    report.labelling = Some(grader::judge::grade::LabellingFacts {
         index: 1,
         of: 4,
         seed: 0,
@@ -751,7 +751,7 @@ fn a_split_failing_on_a_relabelled_input_shows_both_numberings() {
     });
     report.name_in_case(&l.permutation);
     let dir = scratch("inspect-relabelled");
-    grader::html::write_report(&dir, &[(&f, &report)]).unwrap();
+    grader::report::html::write_report(&dir, &[(&f, &report)]).unwrap();
     let data = case_data(&dir, "cube-split");
     let steps = serde_json::json!([["clickError"], ["selectError"], ["key", "h"]]);
     let seen = inspect(&dir, "cube-split", steps, "inspector-relabelled.png");
@@ -870,7 +870,7 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
     solution::loop_subdivide(&mut mesh);
     frames.push(("the end".to_string(), mesh.clone()));
     let count = frames.len();
-    let frames = grader::html::Frames {
+    let frames = grader::report::html::Frames {
         meshes: frames,
         first_broken: Some(7),
         cut: None,
@@ -878,7 +878,8 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
     let mut report = invalid_like(&f, f.input.to_mesh().unwrap(), mesh);
     report.entries[0].text = "positions are wrong".into();
     let dir = scratch("inspect-frames");
-    grader::html::write_report_frames(&dir, &[(&f, &report, Some(&frames))], false).unwrap();
+    grader::report::html::write_report_frames(&dir, &[(&f, &report, Some(&frames))], false)
+        .unwrap();
     let seen = inspect(
         &dir,
         "cube-subdivide-2",
@@ -914,10 +915,10 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
 
 /// A failed report for `result`, with one message.
 fn invalid_like(
-    f: &grader::fixture::Fixture,
+    f: &grader::judge::fixture::Fixture,
     input: halfedge::Mesh,
     result: halfedge::Mesh,
-) -> grader::grade::CaseReport {
+) -> grader::judge::grade::CaseReport {
     failed_report(f, input, result, String::new(), Vec::new())
 }
 
@@ -930,10 +931,10 @@ fn the_whole_lab_failing_makes_a_page_under_5_mb_that_opens_in_2_s() {
     if !have_chromium() {
         return;
     }
-    use grader::fixture::Operation;
+    use grader::judge::fixture::Operation;
     use reference::solution;
-    let fixtures = grader::fixture::load_all(&common::lab_root().join("fixtures")).unwrap();
-    let reports: Vec<grader::grade::CaseReport> = fixtures
+    let fixtures = grader::judge::fixture::load_all(&common::lab_root().join("fixtures")).unwrap();
+    let reports: Vec<grader::judge::grade::CaseReport> = fixtures
         .iter()
         .map(|f| {
             let input = f.input.to_mesh().unwrap();
@@ -960,10 +961,12 @@ fn the_whole_lab_failing_makes_a_page_under_5_mb_that_opens_in_2_s() {
             r
         })
         .collect();
-    let pairs: Vec<(&grader::fixture::Fixture, &grader::grade::CaseReport)> =
-        fixtures.iter().zip(&reports).collect();
+    let pairs: Vec<(
+        &grader::judge::fixture::Fixture,
+        &grader::judge::grade::CaseReport,
+    )> = fixtures.iter().zip(&reports).collect();
     let dir = scratch("report-whole-lab");
-    let index = grader::html::write_report(&dir, &pairs).unwrap();
+    let index = grader::report::html::write_report(&dir, &pairs).unwrap();
     let bytes = std::fs::metadata(&index).unwrap().len();
     let start = Instant::now();
     let dom = browse(
@@ -1088,7 +1091,7 @@ document.getElementById('f').onload = function () {
 /// A mesh whose every link may be anything: ids in range or past it,
 /// positions finite, NaN, infinite or astronomically far.
 fn garbage(seed: u64, n: usize) -> halfedge::Mesh {
-    use grader::relabel::Rng;
+    use grader::judge::relabel::Rng;
     use halfedge::*;
     let rng = &mut Rng::new(seed);
     let id = |rng: &mut Rng, len: usize| -> u32 {
@@ -1150,15 +1153,15 @@ fn the_inspector_survives_any_mesh() {
         "cube-subdivide-1",
         "grid-split-boundary",
     ];
-    let fixtures: Vec<grader::fixture::Fixture> =
-        grader::fixture::load_all(&common::lab_root().join("fixtures"))
+    let fixtures: Vec<grader::judge::fixture::Fixture> =
+        grader::judge::fixture::load_all(&common::lab_root().join("fixtures"))
             .unwrap()
             .into_iter()
             .filter(|f| names.contains(&f.name.as_str()))
             .collect();
     assert_eq!(fixtures.len(), names.len());
     for round in 0..3u64 {
-        let reports: Vec<grader::grade::CaseReport> = fixtures
+        let reports: Vec<grader::judge::grade::CaseReport> = fixtures
             .iter()
             .enumerate()
             .map(|(i, f)| {
@@ -1173,7 +1176,7 @@ fn the_inspector_survives_any_mesh() {
             .collect();
         let pairs: Vec<_> = fixtures.iter().zip(&reports).collect();
         let dir = scratch(&format!("inspect-garbage-{round}"));
-        grader::html::write_report(&dir, &pairs).unwrap();
+        grader::report::html::write_report(&dir, &pairs).unwrap();
         std::fs::write(dir.join("robust.html"), ROBUST).unwrap();
         let dom = browse(
             &dir,

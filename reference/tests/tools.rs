@@ -125,11 +125,11 @@ fn add_makes_a_case_the_grader_runs() {
     // OBJ vertices 1 and 3 are indices 0 and 2, as messages number them.
     let case = fixtures.join("lab/octa-flip-0-2.json");
     let fixture =
-        grader::fixture::Fixture::from_json(&std::fs::read_to_string(&case).unwrap(), &case)
+        grader::judge::fixture::Fixture::from_json(&std::fs::read_to_string(&case).unwrap(), &case)
             .unwrap();
     assert_eq!(
         fixture.operation,
-        grader::fixture::Operation::Flip { edge: [0, 2] },
+        grader::judge::fixture::Operation::Flip { edge: [0, 2] },
         "OBJ numbers become indices"
     );
     assert_eq!(fixture.object, "octa");

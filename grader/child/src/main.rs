@@ -5,7 +5,7 @@
 //! the grader (`grader/`) cannot link a line of the student's code.
 
 fn main() {
-    grader::child::serve(&grader::Implementation {
+    grader::isolate::child::serve(&grader::Implementation {
         flip_edge: meshedit::flip_edge,
         split_edge: meshedit::split_edge,
         loop_subdivide: meshedit::loop_subdivide,

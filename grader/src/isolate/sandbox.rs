@@ -25,7 +25,7 @@
 //! - As root, it always drops to user `nobody` (and a process cap, which
 //!   only binds users other than root); a launcher that would still be
 //!   root refuses to start the child. Every capability is dropped.
-//! - A seccomp filter ([`crate::seccomp`]): no new processes, no sockets,
+//! - A seccomp filter ([`crate::isolate::seccomp`]): no new processes, no sockets,
 //!   no IPC, no reaching other processes, no `prctl` that undoes any of
 //!   this, no terminal input, no file watches.
 //! - `PR_SET_PDEATHSIG`: if the grader dies, so does the launcher, and so
@@ -36,7 +36,7 @@
 //!   fixture, a result file or the grader's options.
 //!
 //! The launcher writes what it put in place as the first frame on the
-//! result pipe ([`crate::wire::Frame::Sandbox`]); the grader prints it as
+//! result pipe ([`crate::isolate::wire::Frame::Sandbox`]); the grader prints it as
 //! the protections line.
 
 use std::ffi::OsString;
@@ -708,7 +708,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
             0
         };
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
-        let filtered = crate::seccomp::apply()?;
+        let filtered = crate::isolate::seccomp::apply()?;
         Ok(format!(
             "landlock={abi} memory={} user={} group=own session=own pidns={} caps=0 seccomp={}",
             limits.memory,
@@ -721,7 +721,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         Ok(s) => s,
         Err(e) => return e,
     };
-    let frame = crate::wire::sandbox_frame(&status);
+    let frame = crate::isolate::wire::sandbox_frame(&status);
     if let Err(e) = std::io::stdout().write_all(&frame) {
         return format!("cannot write to the grader: {e}");
     }
@@ -813,7 +813,7 @@ pub fn describe_status(status: &str) -> String {
         }
         _ => ", no seccomp filter",
     };
-    let grader = if crate::runner::grader_not_dumpable() {
+    let grader = if crate::isolate::runner::grader_not_dumpable() {
         ", grader not dumpable"
     } else {
         ""
@@ -840,7 +840,7 @@ mod tests {
         let line = describe_status(
             "landlock=6 memory=2147483648 user=nobody group=own session=own pidns=1 caps=0 seccomp=1",
         );
-        let grader = if crate::runner::grader_not_dumpable() {
+        let grader = if crate::isolate::runner::grader_not_dumpable() {
             ", grader not dumpable"
         } else {
             ""

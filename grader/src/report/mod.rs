@@ -1,13 +1,21 @@
-//! Printing the reports: the lab's text format, JSON, and Gradescope's
-//! `results.json`.
+//! Reporting: renderings of the judge's findings. This module prints the
+//! lab's text format, JSON and Gradescope's `results.json`; [`html`] draws
+//! the `--report` page; [`quoted`] is how anything the student's code said
+//! is shown (as data, under `| `).
+//!
+//! Nothing here decides a verdict: every function reads
+//! [`CaseReport`]s, never another module's message text.
+
+pub mod html;
+pub mod quoted;
 
 use std::fmt::Write as _;
 
 use serde::Serialize;
 use serde_json::json;
 
-use crate::fixture::{Group, Stage};
-use crate::grade::{CaseReport, Level};
+use crate::judge::fixture::{Group, Stage};
+use crate::judge::grade::{CaseReport, Level};
 
 /// Whether a case's verdict counts toward the final one.
 pub fn counts(case: &CaseReport, bonus: bool) -> bool {
@@ -84,7 +92,7 @@ pub struct TextOptions {
     /// The per-call limit, when `--budget` shortened it.
     pub time: Option<String>,
     /// `loop_subdivide` timed on two sizes, when it was.
-    pub scaling: Option<crate::scaling::Scaling>,
+    pub scaling: Option<crate::judge::scaling::Scaling>,
 }
 
 /// At most this many failing cases are listed in the summary.
@@ -311,7 +319,7 @@ struct JsonReport<'a> {
     plan: &'a crate::Plan,
     /// `loop_subdivide` timed on two sizes, when it was.
     #[serde(skip_serializing_if = "Option::is_none")]
-    scaling: Option<&'a crate::scaling::Scaling>,
+    scaling: Option<&'a crate::judge::scaling::Scaling>,
     cases: Vec<JsonCase<'a>>,
 }
 
@@ -332,7 +340,7 @@ pub fn json(
     bonus: bool,
     protections: &str,
     plan: &crate::Plan,
-    scaling: Option<&crate::scaling::Scaling>,
+    scaling: Option<&crate::judge::scaling::Scaling>,
 ) -> String {
     serde_json::to_string_pretty(&JsonReport {
         passed: all_passed(cases, bonus),

@@ -16,12 +16,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use halfedge::{Check, EdgeId, Element, FaceId, VertexId};
 use serde::{Serialize, Serializer};
 
-use crate::child::{Counts, MeshResult, Outcome, Problem, Returned, SplitIds};
-use crate::fixture::{Fixture, Group, Operation, Returns, Stage};
-use crate::matching::{self, VertexMatch};
-use crate::quoted::Quoted;
-use crate::runner::{ChildReport, Run};
-use crate::wire::{StepAnswer, StepRan};
+use crate::isolate::child::{Counts, MeshResult, Outcome, Problem, Returned, SplitIds};
+use crate::isolate::runner::{ChildReport, Run};
+use crate::isolate::wire::{StepAnswer, StepRan};
+use crate::judge::fixture::{Fixture, Group, Operation, Returns, Stage};
+use crate::judge::matching::{self, VertexMatch};
+use crate::report::quoted::Quoted;
 
 /// Whether every message is rewritten (see [`set_rewording`]).
 static REWORDING: AtomicBool = AtomicBool::new(false);
@@ -226,13 +226,13 @@ pub struct LabellingFacts {
     pub of: usize,
     pub seed: u64,
     #[serde(serialize_with = "kind_json")]
-    pub kind: crate::relabel::Kind,
+    pub kind: crate::judge::relabel::Kind,
     /// `vertices[i]`: the id input vertex `i` has in the labelling; the
     /// same for edges, faces and halfedges.
-    pub permutation: crate::relabel::Permutation,
+    pub permutation: crate::judge::relabel::Permutation,
 }
 
-fn kind_json<S: Serializer>(k: &crate::relabel::Kind, s: S) -> Result<S::Ok, S::Error> {
+fn kind_json<S: Serializer>(k: &crate::judge::relabel::Kind, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(k.key())
 }
 
@@ -407,7 +407,7 @@ pub struct CaseReport {
     pub pointer: Option<Pointer>,
     /// A subdivision's step-through, when it was recorded (`--report`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub frames: Option<crate::frames::Frames>,
+    pub frames: Option<crate::judge::frames::Frames>,
 }
 
 struct Log {
@@ -551,13 +551,13 @@ impl Entry {
     /// The entry on one line: the grader's words, then the quoted text's
     /// first line (escaped, cut) if any.
     pub fn one_line(&self) -> String {
-        crate::quoted::quoting(&self.text, self.quote.as_ref(), "").0
+        crate::report::quoted::quoting(&self.text, self.quote.as_ref(), "").0
     }
 
     /// The quoted text's lines under `indent` when they did not all fit
     /// on the entry's line.
     pub fn quote_below(&self, indent: &str) -> String {
-        crate::quoted::quoting(&self.text, self.quote.as_ref(), indent).1
+        crate::report::quoted::quoting(&self.text, self.quote.as_ref(), indent).1
     }
 }
 
@@ -655,7 +655,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 log,
                 Warn,
                 "{function} used more than {} of memory",
-                crate::sandbox::format_bytes(*cap)
+                crate::isolate::sandbox::format_bytes(*cap)
             );
             say!(log, Detail, "a loop that never stops adding elements or growing a Vec? (--memory changes the cap)");
         }
@@ -1732,7 +1732,7 @@ pub fn add_detail(report: &mut CaseReport, text: String) {
 
 /// Adds the step-through's finding to a failed case: which split broke
 /// the mesh, with the elements it names.
-pub fn note_frames(report: &mut CaseReport, frames: crate::frames::Frames) {
+pub fn note_frames(report: &mut CaseReport, frames: crate::judge::frames::Frames) {
     if let (false, Some(b)) = (report.passed, &frames.broken) {
         let (mut log, end) = Log::resume(report);
         say!(log, Detail, "{}", b.line);
@@ -1748,12 +1748,12 @@ pub fn note_frames(report: &mut CaseReport, frames: crate::frames::Frames) {
 pub fn note_labelling(
     report: &mut CaseReport,
     f: &Fixture,
-    labelling: &crate::relabel::Labelling,
+    labelling: &crate::judge::relabel::Labelling,
     index: usize,
     total: usize,
     seed: u64,
 ) {
-    use crate::relabel::Kind;
+    use crate::judge::relabel::Kind;
     let (mut log, end) = Log::resume(report);
     log.passed = false;
     say!(
@@ -1786,7 +1786,7 @@ pub fn note_labelling(
 impl CaseReport {
     /// Every element named so far was seen in a labelling's numbering:
     /// keep that id as `labelled` and give the case's one.
-    pub fn name_in_case(&mut self, p: &crate::relabel::Permutation) {
+    pub fn name_in_case(&mut self, p: &crate::judge::relabel::Permutation) {
         let renamed = |n: &mut Named| {
             if n.labelled.is_none() {
                 n.labelled = Some(n.element);

@@ -25,9 +25,9 @@ use std::time::Duration;
 use halfedge::Mesh;
 use serde::Serialize;
 
-use crate::runner::{self, ChildProgram, Exit};
-use crate::sandbox::Limits;
-use crate::wire::{self, Ran};
+use crate::isolate::runner::{self, ChildProgram, Exit};
+use crate::isolate::sandbox::Limits;
+use crate::isolate::wire::{self, Ran};
 
 /// The icosphere levels timed: 80 and 1280 faces, one round making 320
 /// and 5120. Small enough that a linear debug build takes a few
@@ -223,8 +223,8 @@ fn fastest(
 /// no `--case`, no `--stage` but `subdivide`, no `--budget`, whose runs it
 /// would take from), and every counted subdivision case passed (a slow
 /// answer is worth fixing once it is right).
-pub fn wanted(reports: &[crate::grade::CaseReport], asked: bool) -> bool {
-    use crate::fixture::{Group, Stage};
+pub fn wanted(reports: &[crate::judge::grade::CaseReport], asked: bool) -> bool {
+    use crate::judge::fixture::{Group, Stage};
     let counted: Vec<_> = reports
         .iter()
         .filter(|r| r.stage == Stage::Subdivide && r.group != Group::Bonus)

@@ -599,7 +599,7 @@ pub fn load_all(root: &Path) -> Result<Vec<Fixture>, FixtureError> {
 /// Checks every group folder's files against its `SHA256SUMS`: each
 /// fixture listed, each listed file present, each digest right.
 pub fn check_digests(root: &Path) -> Result<(), FixtureError> {
-    use crate::digest;
+    use crate::judge::digest;
     let err = |path: PathBuf, message: String| FixtureError { path, message };
     let mut by_group: Vec<(PathBuf, Vec<PathBuf>)> = Vec::new();
     for (group, path) in fixture_files(root)? {

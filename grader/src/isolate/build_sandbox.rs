@@ -310,7 +310,7 @@ impl Report {
             Outcome::OutOfMemory => Some(format!(
                 "the build used more than {} (the memory cap of each compiler process): \
                  does the code embed or compute something huge at compile time?",
-                crate::sandbox::format_bytes(self.memory)
+                crate::isolate::sandbox::format_bytes(self.memory)
             )),
             Outcome::OutOfTime => Some(format!(
                 "the build did not finish within {} s",
@@ -353,7 +353,7 @@ impl Report {
         format!(
             "build protections: {files}, {network}, memory cap {} per process, time limit {} s, \
              own session, environment {}{user}",
-            crate::sandbox::format_bytes(self.memory),
+            crate::isolate::sandbox::format_bytes(self.memory),
             self.seconds,
             ENV_NAMES.join(" ")
         )
@@ -669,7 +669,7 @@ fn write_all(fd: i32, mut bytes: &[u8]) {
 }
 
 // Limits are set as the case launcher sets them.
-use crate::sandbox::set_limit;
+use crate::isolate::sandbox::set_limit;
 
 /// The child's lock-in, before cargo is `exec`ed: the status line for the
 /// launcher (`landlock=6 network=namespace user=nobody`).
@@ -800,7 +800,7 @@ fn landlock(build: &Build) -> Result<i32, String> {
     };
     let abi = ABI::V6;
     let fail = |e: &dyn std::fmt::Display| format!("Landlock: {e}");
-    let mut ruleset = crate::sandbox::denying_everything()?;
+    let mut ruleset = crate::isolate::sandbox::denying_everything()?;
     let read: BitFlags<AccessFs> = AccessFs::from_read(abi);
     // The toolchain, the system's compilers, linkers and libraries, the
     // dependencies' sources and the copy of the lab: read only.

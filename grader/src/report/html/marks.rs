@@ -7,9 +7,9 @@ use halfedge::{DVec3, Element, Mesh};
 use super::faces::{Shape, MAX_DEGREE};
 use super::svg::{Camera, Prepared};
 use super::{fmt_d, fmt_p, pair, sides};
-use crate::fixture::{Fixture, Operation, Returns};
-use crate::grade::{CaseReport, Entry, Level};
-use crate::matching::{self, VertexMatch};
+use crate::judge::fixture::{Fixture, Operation, Returns};
+use crate::judge::grade::{CaseReport, Entry, Level};
+use crate::judge::matching::{self, VertexMatch};
 
 /// Meshes with fewer vertices get their ids written beside the vertices.
 pub(super) const LABEL_LIMIT: usize = 60;
@@ -162,8 +162,8 @@ pub(super) fn compare(f: &Fixture, yours: &Shape, expected: &Shape) -> Compariso
     // Pair leftovers: each takes the free expected vertex that shares the
     // most already-paired neighbours with it, nearest first; twice, so that
     // pairs found in the first round help the second.
-    let mine_adj = crate::matching::adjacency(yours.len(), &yours.edges);
-    let theirs_adj = crate::matching::adjacency(expected.len(), &expected.edges);
+    let mine_adj = crate::judge::matching::adjacency(yours.len(), &yours.edges);
+    let theirs_adj = crate::judge::matching::adjacency(expected.len(), &expected.edges);
     let mut displaced = vec![None; yours.len()];
     for round in 0..3 {
         let left: Vec<usize> = (0..yours.len())

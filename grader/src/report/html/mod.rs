@@ -86,10 +86,10 @@ mod tests {
     use super::inspector;
     use super::marks::compare;
     use super::*;
-    use crate::fixture::{Fixture, Operation, Returns};
-    use crate::grade::Entry;
-    use crate::grade::{CaseReport, Level};
-    use crate::relabel::Rng;
+    use crate::judge::fixture::{Fixture, Operation, Returns};
+    use crate::judge::grade::Entry;
+    use crate::judge::grade::{CaseReport, Level};
+    use crate::judge::relabel::Rng;
     use halfedge::Mesh;
     use halfedge::{Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Vertex, VertexId};
 
@@ -98,7 +98,7 @@ mod tests {
     }
 
     fn fixture(name: &str) -> Fixture {
-        crate::fixture::load_all(&fixtures_root())
+        crate::judge::fixture::load_all(&fixtures_root())
             .expect("the fixtures load")
             .into_iter()
             .find(|f| f.name == name)
@@ -127,13 +127,13 @@ mod tests {
                 file: file!(),
                 line: line!(),
             }],
-            output: crate::quoted::Quoted::new("printed <b>\n".repeat(2000)),
+            output: crate::report::quoted::Quoted::new("printed <b>\n".repeat(2000)),
             timed_out: false,
             input: f.input.to_mesh().ok(),
             result,
             hint: None,
             hint_id: None,
-            end: crate::grade::CaseEnd::JudgeFailed,
+            end: crate::judge::grade::CaseEnd::JudgeFailed,
             comparison: None,
             invalid: None,
             labelling: None,
@@ -281,7 +281,7 @@ mod tests {
 
     #[test]
     fn expected_faces_are_rebuilt_for_every_fixture() {
-        for f in crate::fixture::load_all(&fixtures_root()).unwrap() {
+        for f in crate::judge::fixture::load_all(&fixtures_root()).unwrap() {
             let input = Shape::from_faces(&f.input.positions, &f.input.faces);
             let shape = Shape::expected(&f);
             let mut uses: HashMap<[usize; 2], usize> = HashMap::new();
@@ -395,7 +395,7 @@ mod tests {
     fn a_relabelled_input_is_given_the_case_numbering() {
         let f = fixture("cube-split");
         let input = f.input.to_mesh().unwrap();
-        let labellings = crate::relabel::labellings(&input, f.edge_in(&input), 5, 2);
+        let labellings = crate::judge::relabel::labellings(&input, f.edge_in(&input), 5, 2);
         let l = labellings.last().unwrap();
         // Sent vertex -> case vertex, from the labelling itself.
         let mut case_of = vec![None; input.num_vertices()];

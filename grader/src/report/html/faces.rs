@@ -8,7 +8,7 @@ use std::collections::{BTreeSet, HashMap, HashSet, VecDeque};
 use halfedge::{DVec3, Mesh};
 
 use super::{pair, sides};
-use crate::fixture::Fixture;
+use crate::judge::fixture::Fixture;
 
 /// A face whose `next` walk is longer than this is not drawn.
 pub(super) const MAX_DEGREE: usize = 64;

@@ -1,11 +1,11 @@
 //! The parent side of a case: starts the sandboxed child (see
-//! [`crate::sandbox`]), sends it the request, enforces the time limit from
+//! [`crate::isolate::sandbox`]), sends it the request, enforces the time limit from
 //! the moment the student's function is called, and kills everything the
 //! child started.
 //!
 //! Three pipes: the request goes in on the launcher's stdin (the child
-//! reads it on [`crate::sandbox::REQUEST_FD`], its stdin is `/dev/null`);
-//! frames come back on its stdout (see [`crate::wire`]); whatever the
+//! reads it on [`crate::isolate::sandbox::REQUEST_FD`], its stdin is `/dev/null`);
+//! frames come back on its stdout (see [`crate::isolate::wire`]); whatever the
 //! student's code prints (stdout and stderr both) arrives on its stderr.
 //! No pipe is waited on past the deadline: the launcher starts in a
 //! session and process group of its own, which is killed at the deadline
@@ -25,8 +25,8 @@ use std::sync::mpsc;
 use std::thread;
 use std::time::{Duration, Instant};
 
-use crate::sandbox::{self, Limits};
-use crate::wire::{self, Frame, Ran};
+use crate::isolate::sandbox::{self, Limits};
+use crate::isolate::wire::{self, Frame, Ran};
 
 /// The most of the student's output kept for the report.
 const OUTPUT_CAP: usize = 8 * 1024;
@@ -87,10 +87,10 @@ pub struct RawReport {
 }
 
 /// How a case's run ended, as the judge reads it: the child's result
-/// already analysed in the parent (see [`crate::child::analyze`]).
+/// already analysed in the parent (see [`crate::isolate::child::analyze`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Run {
-    Done(crate::child::Outcome),
+    Done(crate::isolate::child::Outcome),
     /// The function panicked because the mesh library's growth budget
     /// (`limit` elements) stopped it: a fact the child sends, so the
     /// panic's words are never read.

@@ -38,7 +38,7 @@ pub struct Frames {
 impl Frames {
     /// The page's frames from what the grader recorded and judged
     /// (`CaseReport::frames`).
-    pub fn from_recorded(recorded: &crate::frames::Frames) -> Frames {
+    pub fn from_recorded(recorded: &crate::judge::frames::Frames) -> Frames {
         Frames {
             meshes: recorded.frames.clone(),
             first_broken: recorded.first_broken,

@@ -1,7 +1,7 @@
 //! Both ends of a case's child process.
 //!
 //! [`serve`] is the child: it reads a [`Request`] (the input mesh and the
-//! operation, never the expected result) on [`crate::sandbox::REQUEST_FD`]
+//! operation, never the expected result) on [`crate::isolate::sandbox::REQUEST_FD`]
 //! (its stdin is `/dev/null`), calls the student's function
 //! under `catch_unwind` with a silent panic hook, and sends back the mesh as
 //! the function left it. It judges nothing and reads no file.
@@ -18,7 +18,7 @@ use std::panic::{self, AssertUnwindSafe};
 use halfedge::{EdgeId, Mesh, VertexId};
 use serde::{Deserialize, Serialize};
 
-use crate::wire::{self, Answer, Op, Ran, Request, StepAnswer, StepRan, WireStep};
+use crate::isolate::wire::{self, Answer, Op, Ran, Request, StepAnswer, StepRan, WireStep};
 use crate::Implementation;
 
 /// Element counts: vertices, edges, faces (with holes), halfedges.
@@ -130,7 +130,7 @@ pub enum Outcome {
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Problem {
     /// `validate()` failed: the check, the element and its message (the
-    /// message as the parent read it, see [`crate::grade::words`]).
+    /// message as the parent read it, see [`crate::judge::grade::words`]).
     Invalid {
         #[serde(skip)]
         invalid: Option<halfedge::Invalid>,
@@ -146,7 +146,7 @@ impl Problem {
     /// `validate()`'s finding, its message as the grader says it.
     pub fn of(invalid: halfedge::Invalid) -> Problem {
         let mut invalid = invalid;
-        invalid.message = crate::grade::words(invalid.message);
+        invalid.message = crate::judge::grade::words(invalid.message);
         Problem::Invalid {
             message: invalid.to_string(),
             invalid: Some(invalid),
@@ -436,13 +436,13 @@ pub fn serve(imp: &Implementation) -> ! {
     // The request comes on its own descriptor (stdin is /dev/null), read
     // to the end and closed.
     // SAFETY: F_GETFD only asks whether the descriptor is open.
-    if unsafe { libc::fcntl(crate::sandbox::REQUEST_FD, libc::F_GETFD) } < 0 {
+    if unsafe { libc::fcntl(crate::isolate::sandbox::REQUEST_FD, libc::F_GETFD) } < 0 {
         eprintln!("grader child: no request: this program is started by the grader");
         std::process::exit(3);
     }
     // SAFETY: the descriptor is open and this is its only owner.
     let mut request = unsafe {
-        <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(crate::sandbox::REQUEST_FD)
+        <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(crate::isolate::sandbox::REQUEST_FD)
     };
     let mut bytes = Vec::new();
     if let Err(e) = request.read_to_end(&mut bytes) {
@@ -464,9 +464,9 @@ pub fn serve(imp: &Implementation) -> ! {
     halfedge::logging::init(halfedge::logging::Color::Never);
     let _ = channel.write_all(&wire::started_frame());
     let _ = channel.flush();
-    let cpu = crate::scaling::process_cpu_time();
+    let cpu = crate::judge::scaling::process_cpu_time();
     let ran = run_request(req, imp, record);
-    let cpu = crate::scaling::process_cpu_time().saturating_sub(cpu);
+    let cpu = crate::judge::scaling::process_cpu_time().saturating_sub(cpu);
     let _ = channel.write_all(&wire::cpu_frame(cpu));
     let _ = channel.write_all(&wire::result_frame(&ran));
     let _ = channel.flush();

@@ -1,0 +1,19 @@
+//! Isolating the child: everything between "run this case" and the bytes
+//! the student's code sent back. Nothing here judges an answer.
+//!
+//! - [`sandbox`]: the launcher that locks the child in (Landlock, rlimits,
+//!   namespaces, dropping root); [`seccomp`]: its system-call filter.
+//! - [`runner`]: starting, timing and killing the child, and how a run
+//!   ended.
+//! - [`wire`]: what crosses the pipes, in both directions.
+//! - [`child`]: the child's side ([`child::serve`]) and the parent's
+//!   reading of its result ([`child::analyze`]).
+//! - [`build_sandbox`]: the same lock-in for a student's build (class
+//!   grading and the Gradescope bundle).
+
+pub mod build_sandbox;
+pub mod child;
+pub mod runner;
+pub mod sandbox;
+pub mod seccomp;
+pub mod wire;

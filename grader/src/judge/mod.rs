@@ -1,0 +1,20 @@
+//! Judging: from a case and what the child sent back to a verdict, its
+//! findings as data and its messages. Nothing here starts a process.
+//!
+//! - [`fixture`]: the case format, shared with the reference's generator;
+//!   [`digest`]: the fixtures' SHA-256 list.
+//! - [`relabel`]: the same input with other ids and pointers, so that
+//!   order-dependent bugs show.
+//! - [`matching`]: order-independent comparison of vertices and edges.
+//! - [`grade`]: the verdict and messages for one case, and its findings as
+//!   data; [`frames`]: the step-through of a recorded subdivision.
+//! - [`scaling`]: `loop_subdivide` timed on two sizes, to catch quadratic
+//!   code (a warning, not counted).
+
+pub mod digest;
+pub mod fixture;
+pub mod frames;
+pub mod grade;
+pub mod matching;
+pub mod relabel;
+pub mod scaling;
