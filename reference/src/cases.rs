@@ -8,7 +8,7 @@ use grader::judge::fixture::{
 };
 use halfedge::{shapes, EdgeId, Mesh};
 
-use crate::mutants;
+use crate::catalogue;
 use crate::solution::{self, Weights};
 
 /// The tolerance of the built-in cases.
@@ -675,7 +675,7 @@ pub fn make_fixture(case: &Case) -> Result<Fixture, String> {
 /// expected result enough for the grader to tell.
 fn mistakes(input: &Mesh, expected: &Expected, tolerance: f64) -> Vec<Mistake> {
     let mut out = Vec::new();
-    for known in mutants::subdivision_mistakes() {
+    for known in catalogue::subdivision_mistakes() {
         let mut mesh = input.clone();
         (known.run)(&mut mesh);
         if let Some(m) = mistake_of(&known, &mesh, expected, tolerance) {
@@ -690,7 +690,7 @@ fn mistakes(input: &Mesh, expected: &Expected, tolerance: f64) -> Vec<Mistake> {
 /// `validate()`'s message (when it breaks the mesh). `None` when the grader
 /// could not tell it from the right answer.
 fn mistake_of(
-    known: &mutants::KnownMistake,
+    known: &catalogue::KnownMistake,
     mesh: &Mesh,
     expected: &Expected,
     tolerance: f64,
@@ -745,7 +745,7 @@ fn second_round_mistakes(
         mistakes: Vec::new(),
     };
     let mut out = Vec::new();
-    for known in mutants::subdivision_mistakes() {
+    for known in catalogue::subdivision_mistakes() {
         let mut mesh = input.clone();
         (known.run)(&mut mesh);
         // A mistake round one shows already broke the mesh there: a second

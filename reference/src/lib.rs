@@ -4,10 +4,9 @@
 //!
 //! - [`solution`]: the model answer, in the lab's four steps, plus boundary
 //!   rules and a choice of weights.
-//! - [`mutants`]: other correct answers and one wrong answer per common
-//!   mistake, for the fixtures' hints and the grader's tests.
-//! - [`hostile`]: attacks on the grader, for its tests; [`lookup`]: the
-//!   lookup table of the visible cases.
+//! - [`catalogue`]: the implementations the grader is tested with: other
+//!   correct answers, one per common mistake (also the fixtures' hints) and
+//!   attacks on the grader, among them the visible cases' lookup table.
 //! - [`cases`]: the built-in cases and turning a case into a fixture.
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`deadline`]: the last commit before a deadline, read out of a
@@ -22,13 +21,11 @@
 //! The command line (`cargo run -p reference -- --help`) is in `main.rs`.
 
 pub mod cases;
+pub mod catalogue;
 pub mod class;
 pub mod deadline;
 pub mod fresh;
 pub mod handout;
-pub mod hostile;
-pub mod lookup;
-pub mod mutants;
 pub mod overview;
 pub mod platforms;
 pub mod similarity;

@@ -8,7 +8,7 @@ use grader::judge::fixture::{self, Group, MeshData, Operation};
 use halfedge::Mesh;
 use reference::cases::{self, Case};
 use reference::solution::{self, Weights};
-use reference::{handout, lab_root, mutants};
+use reference::{catalogue, handout, lab_root};
 
 mod bench;
 
@@ -519,9 +519,9 @@ fn write_obj(mesh: &Mesh, input: &Path, what: &str, path: &Path) -> Result<(), S
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-fn find_implementation(name: &str) -> Result<mutants::Entry, String> {
-    mutants::find(name).ok_or_else(|| {
-        let names: Vec<&str> = mutants::catalogue().iter().map(|e| e.name).collect();
+fn find_implementation(name: &str) -> Result<catalogue::Entry, String> {
+    catalogue::find(name).ok_or_else(|| {
+        let names: Vec<&str> = catalogue::catalogue().iter().map(|e| e.name).collect();
         format!(
             "no implementation {name:?}; there are: {}",
             names.join(", ")
@@ -967,7 +967,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Implementations => {
-            for e in mutants::catalogue() {
+            for e in catalogue::catalogue() {
                 println!("{:<28} {}", e.name, e.what);
             }
             Ok(ExitCode::SUCCESS)

@@ -1,5 +1,5 @@
 //! Attacks on the grader by a student who has read its source, each an
-//! entry of the catalogue (`reference/src/hostile.rs`) run through the real
+//! entry of the catalogue (`reference/src/catalogue/attacks.rs`) run through the real
 //! binary, child processes and all.
 //!
 //! The attacks the grader stops are tested for the verdict, the message and
@@ -15,7 +15,7 @@ mod common;
 use common::*;
 use std::time::Duration;
 
-use reference::hostile;
+use reference::catalogue::attacks;
 
 impl Graded {
     fn context(&self) -> String {
@@ -216,15 +216,15 @@ impl Listeners {
         use std::os::linux::net::SocketAddrExt;
         use std::os::unix::fs::PermissionsExt;
         use std::os::unix::net::{SocketAddr, UnixListener};
-        let _ = std::fs::remove_file(hostile::UNIX_SOCKET);
-        let unix = UnixListener::bind(hostile::UNIX_SOCKET).unwrap();
+        let _ = std::fs::remove_file(attacks::UNIX_SOCKET);
+        let unix = UnixListener::bind(attacks::UNIX_SOCKET).unwrap();
         // Open to the child whatever user it runs as.
-        std::fs::set_permissions(hostile::UNIX_SOCKET, std::fs::Permissions::from_mode(0o777))
+        std::fs::set_permissions(attacks::UNIX_SOCKET, std::fs::Permissions::from_mode(0o777))
             .unwrap();
-        let name = SocketAddr::from_abstract_name(hostile::ABSTRACT_SOCKET).unwrap();
+        let name = SocketAddr::from_abstract_name(attacks::ABSTRACT_SOCKET).unwrap();
         let l = Listeners {
-            udp: std::net::UdpSocket::bind(("127.0.0.1", hostile::UDP_PORT)).unwrap(),
-            tcp: std::net::TcpListener::bind(("127.0.0.1", hostile::TCP_PORT)).unwrap(),
+            udp: std::net::UdpSocket::bind(("127.0.0.1", attacks::UDP_PORT)).unwrap(),
+            tcp: std::net::TcpListener::bind(("127.0.0.1", attacks::TCP_PORT)).unwrap(),
             unix,
             abstract_unix: UnixListener::bind_addr(&name).unwrap(),
         };
@@ -262,7 +262,7 @@ impl Listeners {
 
 impl Drop for Listeners {
     fn drop(&mut self) {
-        let _ = std::fs::remove_file(hostile::UNIX_SOCKET);
+        let _ = std::fs::remove_file(attacks::UNIX_SOCKET);
     }
 }
 
@@ -301,7 +301,7 @@ fn code_before_main_is_stopped() {
     // initialiser also runs in the launcher, so no protections line comes;
     // the student's grader launches from a program without their code.)
     let g = grade(
-        hostile::INIT_LOOP,
+        attacks::INIT_LOOP,
         &["--case", "cube-subdivide-1", "--timeout", "0.5"],
     );
     assert_eq!(g.code, 1, "{}", g.context());
@@ -318,14 +318,14 @@ fn code_before_main_is_stopped() {
         g.context()
     );
     assert!(g.took < Duration::from_secs(8), "{}", g.context());
-    assert_eq!(survivors(hostile::INIT_LOOP), Vec::new());
+    assert_eq!(survivors(attacks::INIT_LOOP), Vec::new());
 
     // In the same test, so that no other test's init-loop children count as
     // survivors above.
     // Every subdivision case: the first costs the limit and the 2 s setup
     // grace, every later one is cut to 1 s (+ grace) like a time-out.
     let g = grade(
-        hostile::INIT_LOOP,
+        attacks::INIT_LOOP,
         &["--stage", "subdivide", "--timeout", "3"],
     );
     assert_eq!(g.code, 1, "{}", g.context());
@@ -385,7 +385,7 @@ fn udp_and_unix_sockets_by_path_are_closed() {
 
 /// The `sysv-shm` attack's segments that exist now.
 fn shm_segments() -> Vec<i32> {
-    hostile::SHM_KEYS
+    attacks::SHM_KEYS
         .iter()
         // SAFETY: looks a key up, creating nothing.
         .map(|&k| unsafe { libc::shmget(k, 0, 0) })
@@ -475,7 +475,7 @@ fn inherited_descriptors_are_closed_before_the_child_runs() {
     // SAFETY: only dup2 between fork and exec; the copy is not close-on-exec.
     unsafe {
         cmd.pre_exec(move || {
-            if libc::dup2(fd, hostile::INHERITED_FD) < 0 {
+            if libc::dup2(fd, attacks::INHERITED_FD) < 0 {
                 return Err(std::io::Error::last_os_error());
             }
             Ok(())
@@ -897,7 +897,7 @@ fn a_case_dies_with_its_grader_even_if_it_clears_its_parent_death_signal() {
             .unwrap();
         // The attack names itself once it has tried to clear the signal.
         let ready = wait_until(Duration::from_secs(30), || {
-            !named(hostile::OUTLIVE_NAME).is_empty()
+            !named(attacks::OUTLIVE_NAME).is_empty()
         });
         // SAFETY: kills the grader this test started, and only it.
         unsafe { libc::kill(grader.id() as i32, libc::SIGKILL) };
@@ -1361,7 +1361,7 @@ fn no_file_s_mode_times_owner_or_attributes_can_be_changed() {
     // grader's child and as a grader run by that user), as a TA's lab is
     // their own child's when they grade as themselves.
     use std::os::unix::fs::{MetadataExt, PermissionsExt};
-    let target = Path::new(hostile::METADATA_TARGET);
+    let target = Path::new(attacks::METADATA_TARGET);
     std::fs::create_dir_all(target.parent().unwrap()).unwrap();
     let make = || {
         let _ = std::fs::remove_file(target);
@@ -1436,7 +1436,7 @@ impl Drop for QueueCleanup {
     fn drop(&mut self) {
         // SAFETY: plain System V calls on the test's own key.
         unsafe {
-            let id = libc::msgget(hostile::MSG_KEY, 0);
+            let id = libc::msgget(attacks::MSG_KEY, 0);
             if id >= 0 {
                 libc::msgctl(id, libc::IPC_RMID, std::ptr::null_mut());
             }
@@ -1452,7 +1452,7 @@ fn system_v_objects_of_others_cannot_be_reached_by_index() {
     drop(QueueCleanup);
     let _cleanup = QueueCleanup;
     // SAFETY: plain System V calls into a struct we own.
-    let id = unsafe { libc::msgget(hostile::MSG_KEY, libc::IPC_CREAT | 0o666) };
+    let id = unsafe { libc::msgget(attacks::MSG_KEY, libc::IPC_CREAT | 0o666) };
     assert!(id >= 0, "msgget: {}", std::io::Error::last_os_error());
     let g = grade("ipc-by-id", &["--case", "cube-subdivide-1"]);
     assert_no_flip_verdict(&g);
@@ -1534,7 +1534,7 @@ fn no_file_is_emptied_moved_or_made_even_without_landlock() {
     // filter must, or a TA grading as themselves has their lab wiped: the
     // folder and the file are the child's user's (`nobody` here).
     use std::os::unix::fs::PermissionsExt;
-    let dir = Path::new(hostile::WIPE_DIR);
+    let dir = Path::new(attacks::WIPE_DIR);
     for landlock in [true, false] {
         let _ = std::fs::remove_dir_all(dir);
         std::fs::create_dir_all(dir).unwrap();

@@ -106,7 +106,7 @@ const RULES: &[Rule] = &[
         "split_edge",
         "Afterwards `mesh.validate()` is `Ok`",
         Counted::Yes,
-        &[("cube-split", "split-stale-b")],
+        &[("cube-split", "split-stale-vertex")],
     ),
     (
         "loop_subdivide",

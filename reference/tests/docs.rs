@@ -470,7 +470,7 @@ fn every_mistake_the_grader_names_is_in_both_faqs() {
             one.contains("10"),
             "{path}: section 1 points to section 10's list"
         );
-        for known in reference::mutants::subdivision_mistakes() {
+        for known in reference::catalogue::subdivision_mistakes() {
             let head = words(known.hint, 5);
             assert!(
                 faq.contains(&head),

@@ -67,7 +67,7 @@ fn facts(case: &Value) -> Value {
 const MISTAKES: &[&str] = &[
     "flip-stale-vertex",
     "flip-stale-face",
-    "split-stale-b",
+    "split-stale-vertex",
     "split-vertex-across",
     "loop-weights",
     "flip-all-new",
@@ -123,7 +123,7 @@ fn failed(r: &Value) -> impl Iterator<Item = &Value> {
 
 #[test]
 fn a_failure_on_a_relabelled_input_names_its_elements_in_both_numberings() {
-    let r = report("split-stale-b", &["--case", "cone-split"]);
+    let r = report("split-stale-vertex", &["--case", "cone-split"]);
     let case = failed(&r).next().expect("cone-split fails");
     let labelling = &case["labelling"];
     assert!(labelling["index"].as_u64().unwrap() >= 1, "{case:#}");

@@ -90,9 +90,9 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("flip-stale-face", "cube-flip-2", "the result of flip_edge is a invalid mesh: A face's halfedge does not point to that face!", None),
     ("flip-face-labels", "cube-flip-1", "the result of flip_edge is a invalid mesh: A halfedge does not point to its face!", None),
     ("flip-boundary", "open-octahedron-flip", "flip_edge changed a boundary edge: it must return None and leave the mesh unchanged", None),
-    ("flip-index-panic", "cube-flip-1", "flip_edge panicked: index out of bounds", Some("reference/src/mutants.rs")),
+    ("flip-index-panic", "cube-flip-1", "flip_edge panicked: index out of bounds", Some("reference/src/catalogue/mistakes.rs")),
     // A panic inside the mesh library is placed at the line that called it.
-    ("flip-unset-link", "cube-flip-1", "flip_edge panicked: there is no halfedge h-none", Some("at reference/src/mutants.rs:")),
+    ("flip-unset-link", "cube-flip-1", "flip_edge panicked: there is no halfedge h-none", Some("at reference/src/catalogue/mistakes.rs:")),
     ("split-not-midpoint", "cube-split", "split vertex is not at the midpoint of the edge", Some("the midpoint is")),
     ("split-vertex-across", "cube-split", "the new vertex's halfedge does not run along the split edge", Some("must lead to vertex")),
     ("split-none", "cube-split", "split_edge returned None for an edge between two triangles: it must split it", None),
@@ -126,7 +126,7 @@ const WRONG: &[(&str, &str, &str, Option<&str>)] = &[
     ("exit", "cube-subdivide-1", "loop_subdivide ended the program (exit status 0) before returning", Some("std::process::exit")),
     ("fake-verdict", "cube-subdivide-1", "at least one of the edges connects incorrect vertices", Some("    | grade.rs:1 [info] all tests passed, congratulations!")),
     // Order-dependent bugs: right on the mesh as built, wrong on another labelling.
-    ("split-stale-b", "cube-split", "the result of split_edge is a invalid mesh: A vertex's halfedge does not point to that vertex!", Some("does split_edge update mesh[a].halfedge and mesh[b].halfedge")),
+    ("split-stale-vertex", "cube-split", "the result of split_edge is a invalid mesh: A vertex's halfedge does not point to that vertex!", Some("does split_edge update mesh[a].halfedge and mesh[b].halfedge")),
     ("split-stale-faces", "cube-split", "the result of split_edge is a invalid mesh: A face's halfedge does not point to that face!", Some("does split_edge reset mesh[f].halfedge")),
     ("split-assumes-inside", "grid-split-boundary", "split_edge returned None for a boundary edge", Some("does split_edge work when mesh[e].halfedge lies in the hole?")),
     // Right alone, wrong after an earlier operation: the sequence stage names the step.
@@ -530,7 +530,7 @@ fn student_code_can_read_and_write_nothing() {
     let dir = fixtures_copy("tamper");
     let before = snapshot(&dir);
     let results = dir.join("results.json");
-    let _ = std::fs::remove_dir_all(reference::hostile::MARK_DIR);
+    let _ = std::fs::remove_dir_all(reference::catalogue::attacks::MARK_DIR);
     let args = [
         "--case",
         "cube-subdivide-1",
@@ -566,7 +566,7 @@ fn student_code_can_read_and_write_nothing() {
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&results).unwrap()).unwrap();
     assert_eq!(written["score"].as_f64(), Some(0.0), "{written}");
-    assert!(!std::path::Path::new(reference::hostile::MARK_DIR).exists());
+    assert!(!std::path::Path::new(reference::catalogue::attacks::MARK_DIR).exists());
     // Graded again, the same verdict: nothing was left tampered.
     let again = grade("tamper", &args);
     assert_eq!(again.code, 1);
@@ -625,7 +625,7 @@ fn processes_left_behind_cannot_hold_or_outlive_the_grader() {
         let dir = std::env::temp_dir().join(format!("detached-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let results = dir.join("results.json");
-        let _ = std::fs::remove_dir_all(reference::hostile::MARK_DIR);
+        let _ = std::fs::remove_dir_all(reference::catalogue::attacks::MARK_DIR);
         let mut args = vec![
             "--case",
             "cube-subdivide-1",
@@ -643,9 +643,11 @@ fn processes_left_behind_cannot_hold_or_outlive_the_grader() {
             written,
             "results.json stays the grader's"
         );
-        assert!(!std::path::Path::new(reference::hostile::MARK_DIR)
-            .join("detached")
-            .exists());
+        assert!(
+            !std::path::Path::new(reference::catalogue::attacks::MARK_DIR)
+                .join("detached")
+                .exists()
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
@@ -757,7 +759,7 @@ fn try_runs_a_function_on_any_mesh() {
 /// vertices do on the cube, the first one's hint stands for both).
 #[test]
 fn every_known_mistake_is_named_wherever_it_fails() {
-    for known in reference::mutants::subdivision_mistakes() {
+    for known in reference::catalogue::subdivision_mistakes() {
         let g = grade(known.id, &["--stage", "subdivide", "--timeout", "5"]);
         assert_eq!(g.code, 1, "{} passes?\n{}", known.id, g.stdout);
         // Each case's block: from "start testing" to "end testing".
@@ -809,7 +811,7 @@ fn every_known_mistake_is_named_wherever_it_fails() {
 fn quiet_keeps_the_hint_and_a_focused_run_says_what_to_do_next() {
     let g = grade("in-place-vertices-first", &["-q"]);
     assert_eq!(g.code, 1);
-    let hint = reference::mutants::subdivision_mistakes()
+    let hint = reference::catalogue::subdivision_mistakes()
         .into_iter()
         .find(|m| m.id == "in-place-vertices-first")
         .unwrap()

@@ -723,7 +723,7 @@ fn a_split_failing_on_a_relabelled_input_shows_both_numberings() {
     // cube-split (ids permuted): the grader would report this labelling.
     let f = lab_fixture("cube-split");
     let input = f.input.to_mesh().unwrap();
-    let split = reference::mutants::find("split-stale-vertex")
+    let split = reference::catalogue::find("split-stale-vertex")
         .unwrap()
         .imp
         .split_edge;

@@ -1,5 +1,6 @@
 //! Hostile implementations: what a student who has read the grader's
-//! source might try, each an entry of the catalogue in [`crate::mutants`].
+//! source might try, each an entry of the catalogue ([`super`]).
+//! They build on the mistakes ([`super::mistakes`]), never the reverse.
 //! Every attack prints what it managed (`attack: ...`), so the tests can
 //! assert that it was stopped as well as that the verdict is right.
 //!
@@ -11,7 +12,57 @@ use std::time::Duration;
 
 use halfedge::{EdgeId, Mesh, VertexId};
 
+use super::entry::{model, Entry};
+use super::lookup;
+use super::mistakes;
+
 use crate::solution;
+
+/// The attacks on the grader.
+pub fn entries() -> Vec<Entry> {
+    let e = Entry::new;
+    vec![
+        e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", model().subdivide(sub_fake_verdict)),
+        e("forged-lines", "flip_edge prints the grader's summary and verdict and panics with them after a newline", model().flip(forged_lines)),
+        e("escapes", "flip_edge prints terminal escapes (clear screen, cursor, OSC, bare CR) and panics with them", model().flip(escapes)),
+        e("tamper", "reads the fixtures and the grader's command line, tampers with fixtures and results.json, then makes the no-flip mistake", model().subdivide(tamper)),
+        e("forge-frames", "writes a forged result on every file descriptor, then exits", model().subdivide(forge_frames)),
+        e("orphan", "leaves a process holding the grader's pipes for 40 s", model().subdivide(orphan)),
+        e("detached", "leaves a detached process that rewrites results.json after the grader finished", model().subdivide(detached)),
+        e("memory-hog", "touches 6 GiB of memory", model().subdivide(memory_hog)),
+        e("replace-and-grow", "replaces the mesh with Mesh::new() and grows it without end", model().subdivide(replace_and_grow)),
+        e("huge-position", "flip_edge flips right but leaves a vertex at (1e300, 0, 0)", model().flip(huge_position)),
+        e("sockets", "tries TCP, UDP, a Unix socket by path and an abstract one, then makes the no-flip mistake", model().subdivide(sockets)),
+        e("sysv-shm", "leaves 480 MiB in System V shared memory segments, then subdivides right", model().subdivide(sysv_shm)),
+        e("process-chain", "leaves a chain of 450 processes, each the parent of the next, deeper than the sweeps reach", model().subdivide(process_chain)),
+        e("inherited-fd", "empties a file through a descriptor inherited from whatever started the grader", model().subdivide(inherited_fd)),
+        e("reach-parent", "signals, traces and reads the grader, then makes the no-flip mistake", model().subdivide(reach_parent)),
+        e("renice-parent", "lowers the grader's priority and changes its limits, then makes the no-flip mistake", model().subdivide(renice_parent)),
+        e("fork-memory", "forks three processes of 160 MiB each, then subdivides right", model().subdivide(fork_memory)),
+        e("crafted-frame", "sends a result of its own with links out of range, then exits", model().subdivide(crafted_frame)),
+        e("flood", "prints 64 MiB on each of stdout and stderr, then makes the no-flip mistake", model().subdivide(flood)),
+        e("hook-abort", "installs a panic hook that aborts, then panics", model().subdivide(hook_abort)),
+        e("thread-overflow", "recurses without end in a thread of its own", model().subdivide(thread_overflow)),
+        e("payload-drop-panics", "panics with a payload whose drop panics again", model().subdivide(payload_drop_panics)),
+        e("huge-mesh", "returns a mesh of ten million halfedges built from records", model().subdivide(huge_mesh)),
+        e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", model().subdivide(root_powers)),
+        e("outlive-grader", "clears its parent-death signal and waits a minute in the call, to outlive a killed grader", model().subdivide(outlive_grader)),
+        e("prctl-undo", "tries the prctl options that undo protections (parent-death signal, dumpable, ptracer, keepcaps, subreaper), then makes the no-flip mistake", model().subdivide(prctl_undo)),
+        e("starve", "pins the grader to one CPU and puts it on SCHED_IDLE, then makes the no-flip mistake", model().subdivide(starve)),
+        e("watch-files", "watches /tmp, /etc and the hidden fixtures with inotify and fanotify, then makes the no-flip mistake", model().subdivide(watch_files)),
+        e("terminal", "stays in the grader's session and types a command into its terminal with TIOCSTI, then makes the no-flip mistake", model().subdivide(terminal)),
+        e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", model().subdivide(grader_memory)),
+        e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", model().subdivide(kernel_calls)),
+        e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", model().subdivide(fake_sandbox_failure)),
+        e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", model().flip(lookup::flip_edge).split(lookup::split_edge).subdivide(lookup::loop_subdivide)),
+        e("file-metadata", "changes the mode, times, an extended attribute and the owner of a file it may not open, then makes the no-flip mistake", model().subdivide(file_metadata)),
+        e("kernel-buffers", "fills socket pairs and pipes, kernel memory no address-space cap counts, then subdivides right", model().subdivide(kernel_buffers)),
+        e("ipc-by-id", "sends to a System V message queue and attaches shared memory it finds by index, then makes the no-flip mistake", model().subdivide(ipc_by_id)),
+        e("probes", "tries a shell, a memfd past the cap, raising its limits, kill -1, real-time priority, /dev/shm, its pipes through /proc, the hidden fixtures by path, a thread bomb; then makes the no-flip mistake", model().subdivide(probes)),
+        e("wipe-files", "empties, truncates, renames, links and removes a file of its user, makes a folder, a link and a pipe beside it, then makes the no-flip mistake", model().subdivide(wipe_files)),
+        e(INIT_LOOP, "a static initialiser that never returns, before main", model()),
+    ]
+}
 
 /// Where the attacks that "win" leave their mark, for the tests to look.
 pub const MARK_DIR: &str = "/tmp/meshlab-attack";
@@ -94,7 +145,7 @@ pub fn tamper(mesh: &mut Mesh) {
             .and_then(|()| std::fs::write(format!("{MARK_DIR}/tamper"), "was here")),
     );
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Writes a result frame of its own (the input, returned as the answer) on
@@ -123,7 +174,7 @@ pub fn orphan(mesh: &mut Mesh) {
         std::thread::sleep(Duration::from_secs(40));
         std::process::exit(0);
     }
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Leaves a detached process (its own session, so not in the killed group)
@@ -148,7 +199,7 @@ pub fn detached(mesh: &mut Mesh) {
             std::process::exit(0);
         }
     }
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Touches memory until something stops it: 6 GiB, 64 MiB at a time.
@@ -162,7 +213,7 @@ pub fn memory_hog(mesh: &mut Mesh) {
         hoard.push(std::hint::black_box(block));
     }
     std::hint::black_box(&hoard);
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Replaces the mesh with a new one: the growth budget must still hold.
@@ -170,63 +221,6 @@ pub fn replace_and_grow(mesh: &mut Mesh) {
     *mesh = Mesh::new();
     loop {
         mesh.new_vertex(halfedge::DVec3::ZERO);
-    }
-}
-
-/// Subdivides right, then leaves one vertex at NaN.
-pub fn nan_position(mesh: &mut Mesh) {
-    solution::loop_subdivide(mesh);
-    let v = VertexId::from_index(mesh.num_vertices() / 2);
-    mesh[v].pos.y = f64::NAN;
-}
-
-/// A split that never updates b's halfedge: right whenever b happened to
-/// point elsewhere (as `from_faces` always leaves it), wrong when b pointed
-/// at the halfedge the split moves.
-pub fn split_stale_b(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
-    let h = mesh[e].halfedge;
-    let b = mesh[mesh[h].twin].vertex;
-    let before = mesh[b].halfedge;
-    let m = solution::split_edge(mesh, e)?;
-    mesh[b].halfedge = before;
-    Some(m)
-}
-
-/// A split that never resets the halfedge of the faces it shrinks.
-pub fn split_stale_faces(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
-    let h = mesh[e].halfedge;
-    let faces = [mesh[h].face, mesh[mesh[h].twin].face];
-    let before = faces.map(|f| mesh[f].halfedge);
-    let m = solution::split_edge(mesh, e)?;
-    for (f, old) in faces.into_iter().zip(before) {
-        mesh[f].halfedge = old;
-    }
-    Some(m)
-}
-
-/// A split that assumes `mesh[e].halfedge` lies in a real face: on a
-/// boundary edge given by its hole side, it divides the hole.
-pub fn split_assumes_inside(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
-    let h = mesh[e].halfedge;
-    if mesh[mesh[h].face].is_boundary {
-        return None;
-    }
-    solution::split_edge(mesh, e)
-}
-
-/// A flip with no check that the faces are triangles.
-pub fn flip_any_face(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
-    if mesh.edge_on_boundary(e) {
-        return None;
-    }
-    solution::relink_flip(mesh, e);
-    Some(e)
-}
-
-/// A subdivision that quietly skips a mesh that is not all triangles.
-pub fn subdivide_skips_quads(mesh: &mut Mesh) {
-    if mesh.first_non_triangle().is_none() {
-        solution::loop_subdivide(mesh);
     }
 }
 
@@ -307,7 +301,7 @@ pub fn sockets(mesh: &mut Mesh) {
         unix_connect(&abstract_name, b"escaped"),
     );
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// The System V shared memory keys the `sysv-shm` attack leaves behind.
@@ -371,7 +365,7 @@ pub fn process_chain(mesh: &mut Mesh) {
     unsafe {
         if libc::pipe(fds.as_mut_ptr()) != 0 {
             report("build a chain", Err(std::io::Error::last_os_error()));
-            return crate::mutants::no_flip(mesh);
+            return mistakes::no_flip(mesh);
         }
         if libc::fork() == 0 {
             libc::close(fds[0]);
@@ -404,7 +398,7 @@ pub fn process_chain(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// The descriptor the `inherited-fd` attack writes to, when it names a
@@ -433,7 +427,7 @@ pub fn inherited_fd(mesh: &mut Mesh) {
     };
     report("empty a file through an inherited descriptor", r);
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Reaches for the grader (found as [`grader_pid`] finds it): SIGKILL to
@@ -507,7 +501,7 @@ pub fn reach_parent(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Changes the grader's scheduling and limits, which Landlock does not
@@ -542,7 +536,7 @@ pub fn renice_parent(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Forks three processes that each touch 160 MiB, waits for them, then
@@ -630,7 +624,7 @@ pub fn flood(mesh: &mut Mesh) {
         let _ = err.write_all(&line).and_then(|()| err.write_all(b"\n"));
     }
     drop((out, err));
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Replaces the grader's silent panic hook with one that aborts, then
@@ -851,7 +845,7 @@ pub fn outlive_grader(mesh: &mut Mesh) {
     }
     let _ = std::io::stdout().flush();
     std::thread::sleep(Duration::from_secs(OUTLIVE_SECONDS));
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Tries every prctl option that would undo a protection: the parent-death
@@ -895,7 +889,7 @@ pub fn prctl_undo(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// `struct sched_attr` (the first version, 48 bytes).
@@ -966,7 +960,7 @@ pub fn starve(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Watches folders for changes (inotify on `/tmp`, `/etc` and the hidden
@@ -1017,7 +1011,7 @@ pub fn watch_files(mesh: &mut Mesh) {
         }
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// What the `terminal` attack types into the terminal.
@@ -1100,7 +1094,7 @@ pub fn terminal(mesh: &mut Mesh) {
         }
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Opens the grader's `/proc/PID/mem` and reads its memory there: the
@@ -1112,7 +1106,7 @@ pub fn grader_memory(mesh: &mut Mesh) {
         let gone = || Err(std::io::Error::from_raw_os_error(libc::ESRCH));
         report("open the grader's /proc/PID/mem", gone());
         report("find a case's name in the grader's memory", gone());
-        return crate::mutants::no_flip(mesh);
+        return mistakes::no_flip(mesh);
     };
     let mem = std::fs::File::open(format!("/proc/{pid}/mem"));
     report(
@@ -1156,7 +1150,7 @@ pub fn grader_memory(mesh: &mut Mesh) {
     });
     report("find a case's name in the grader's memory", found);
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Tries the other calls that reach past the case, each harmless if it
@@ -1272,7 +1266,7 @@ pub fn kernel_calls(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// The file the `file-metadata` attack changes, in [`MARK_DIR`] (a test
@@ -1332,7 +1326,7 @@ pub fn file_metadata(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// The most the `kernel-buffers` attack tries to hold, to stay polite.
@@ -1472,7 +1466,7 @@ pub fn ipc_by_id(mesh: &mut Mesh) {
         report("attach shared memory found by index", attached);
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// Tries, one after another, what a fresh look at the sandbox found and
@@ -1611,7 +1605,7 @@ pub fn probes(mesh: &mut Mesh) {
         let _ = h.join();
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
 }
 
 /// The folder the `wipe-files` attack works in, in [`MARK_DIR`] (a test
@@ -1671,5 +1665,11 @@ pub fn wipe_files(mesh: &mut Mesh) {
         );
     }
     let _ = std::io::stdout().flush();
-    crate::mutants::no_flip(mesh);
+    mistakes::no_flip(mesh);
+}
+
+/// Prints the grader's success line, then makes the no-flip mistake.
+fn sub_fake_verdict(mesh: &mut Mesh) {
+    println!("grade.rs:1 [info] all tests passed, congratulations!");
+    mistakes::no_flip(mesh);
 }

@@ -1,35 +1,75 @@
-//! Implementations of the three functions that a student might write: the
-//! stubs, two other correct ones, and one for each common mistake.
+//! What a student might get wrong: the handout's stubs and one
+//! implementation per common mistake, each a catalogue entry.
 //!
-//! They serve twice: the fixture generator runs the subdivision mistakes to
-//! store what each produces (so the grader can name a mistake it sees), and
-//! the tests grade every entry to prove the grader accepts the right ones
-//! and rejects each wrong one with the right message.
+//! They serve twice: the fixture generator runs the subdivision mistakes
+//! ([`subdivision_mistakes`]) to store what each produces, so the grader can
+//! name a mistake it sees, and the tests grade every entry to prove the
+//! grader rejects each with the right message. Nothing here is hostile:
+//! attacks ([`super::attacks`]) may build on these, never the reverse.
 
 use halfedge::{DVec3, EdgeId, HalfedgeId, Mesh, VertexId};
 
-use crate::hostile;
+use super::alternatives::{split_old, steps};
+use super::entry::{model, Entry};
 use crate::solution::{self, Weights};
-use grader::Implementation;
 
-/// One implementation in the catalogue.
-pub struct Entry {
-    pub name: &'static str,
-    /// What it does wrong (or how it differs, for the correct ones).
-    pub what: &'static str,
-    pub imp: Implementation,
-}
-
-fn with(
-    flip: Option<fn(&mut Mesh, EdgeId) -> Option<EdgeId>>,
-    split: Option<fn(&mut Mesh, EdgeId) -> Option<VertexId>>,
-    subdivide: Option<fn(&mut Mesh)>,
-) -> Implementation {
-    Implementation {
-        flip_edge: flip.unwrap_or(solution::flip_edge),
-        split_edge: split.unwrap_or(solution::split_edge),
-        loop_subdivide: subdivide.unwrap_or(solution::loop_subdivide),
-    }
+/// The mistakes, the stubs first.
+pub fn entries() -> Vec<Entry> {
+    let e = Entry::new;
+    vec![
+        e("stubs", "the handout's todo!() stubs", model().flip(stub_flip).split(stub_split).subdivide(stub_subdivide)),
+        e("flip-none", "flip_edge always returns None", model().flip(|_, _| None).subdivide(sub_flip_none)),
+        e("flip-wrong-return", "flip_edge returns another edge", model().flip(flip_returns_other).subdivide(sub_flip_returns_other)),
+        e("flip-stale-vertex", "flip_edge does not update the halfedge of a and b", model().flip(flip_stale_vertices).subdivide(sub_flip_stale_vertices)),
+        e("flip-stale-face", "flip_edge does not update the faces' halfedge", model().flip(flip_stale_faces).subdivide(sub_flip_stale_faces)),
+        e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", model().flip(flip_face_labels).subdivide(sub_flip_face_labels)),
+        e("flip-boundary", "flip_edge does not refuse boundary edges (every other rule kept)", model().flip(flip_boundary).subdivide(sub_flip_boundary)),
+        e("flip-index-panic", "flip_edge indexes past the end of a Vec", model().flip(flip_index_panic)),
+        e("flip-unset-link", "flip_edge indexes the mesh with the unset link of a new halfedge", model().flip(flip_unset_link)),
+        e("flip-duplicates", "flip_edge does not refuse a flip whose new edge exists already", model().flip(flip_without_duplicate_check)),
+        e("flip-moves-vertex", "flip_edge relinks right but moves a vertex", model().flip(flip_moves_vertex)),
+        e("split-any-face", "split_edge splits beside faces that are not triangles", model().split(split_any_face)),
+        e("split-marks-new", "split_edge marks the new vertex is_new and gives it a new_pos", model().split(split_marks_new)),
+        e("split-renames-edge", "split_edge leaves e naming an edge across, not half of the old edge", model().split(split_renames_edge)),
+        e("split-not-midpoint", "split_edge puts the new vertex a third of the way", model().split(split_third).subdivide(sub_split_third)),
+        e("split-vertex-across", "split_edge points the new vertex's halfedge across, not along", model().split(split_vertex_across).subdivide(sub_split_vertex_across)),
+        e("split-none", "split_edge always returns None", model().split(|_, _| None)),
+        e("split-refuses-boundary", "split_edge refuses boundary edges, like flip_edge", model().split(split_refuses_boundary).subdivide(sub_split_refuses_boundary)),
+        e("split-stale-vertex", "split_edge does not update b's halfedge", model().split(split_stale_vertex).subdivide(sub_split_stale_vertex)),
+        e("split-after-split", "split_edge repairs b's halfedge with the halfedge it made in its previous call (kept in a static): right on a split alone, broken on the next", model().split(split_reuses_last_half)),
+        e("flip-after-split", "flip_edge points a at h once split_edge has run in the process (kept in a static), as if every vertex still pointed where from_faces put it: right on a flip alone, broken after a split", model().flip(flip_after_split).split(split_noting)),
+        e("loop-weights", "Loop's original weights instead of the lab's", model().subdivide(sub_loop_weights)),
+        e("n3-rule", "3/(8n) also for n = 3", model().subdivide(sub_n3_rule)),
+        e("old-not-moved", "old vertices keep their positions", model().subdivide(sub_old_not_moved)),
+        e("plain-midpoints", "new vertices at edge midpoints", model().subdivide(sub_midpoints)),
+        e("moved-first", "edge points computed from vertices already moved", model().subdivide(sub_moved_first)),
+        e("no-flip", "no edge flipped", model().subdivide(sub_no_flip)),
+        e("flip-all-new", "every new edge flipped, new-new ones too", model().subdivide(sub_flip_all_new)),
+        e("flip-halves", "halves of old edges marked new and flipped too", model().subdivide(sub_flip_halves)),
+        e("split-new-again", "splits edges created by split_edge again, without end", model().subdivide(sub_split_new_again)),
+        e("endless", "loop_subdivide never returns", model().subdivide(sub_endless)),
+        e("recursion", "loop_subdivide recurses without end", model().subdivide(sub_recursion)),
+        e("abort", "loop_subdivide aborts the process", model().subdivide(sub_abort)),
+        e("exit", "loop_subdivide calls std::process::exit(0)", model().subdivide(sub_exit)),
+        e("new-at-origin", "never gives the split vertex its new_pos", model().subdivide(sub_new_at_origin)),
+        e("in-place", "moves old vertices while computing their new positions", model().subdivide(sub_in_place)),
+        e("in-place-vertices-first", "the handout's loop order, moving each vertex inside the vertex loop", model().subdivide(sub_in_place_vertices_first)),
+        e("swapped-edge-weights", "1/8 on the edge's ends, 3/8 on the far corners", model().subdivide(sub_swapped_edge_weights)),
+        e("edge-points-while-splitting", "computes each edge's point just before splitting it", model().subdivide(sub_edge_points_while_splitting)),
+        e("neighbour-skipped", "the walk around a vertex misses one neighbour", model().subdivide(sub_neighbour_skipped)),
+        e("wrong-corner", "the far corners read one step short (mesh[h.next].vertex)", model().subdivide(sub_wrong_corner)),
+        e("integer-u", "u = 3 / (8 * n) in integers, 0 for n other than 3", model().subdivide(sub_integer_u)),
+        e("flip-all-new-checked", "every new edge flipped, with a flip that refuses duplicate edges", model().subdivide(sub_flip_all_new_checked)),
+        e("flip-halves-checked", "all four edges at a new vertex marked new, with a flip that refuses duplicate edges", model().subdivide(sub_flip_halves_checked)),
+        e("stale-flags", "never resets is_new at the start of a round", model().subdivide(sub_stale_flags)),
+        e("split-returns-old", "split_edge returns an end of the edge instead of the new vertex", model().split(split_returns_old)),
+        e("split-stale-faces", "split_edge never resets the halfedge of the faces it shrinks", model().split(split_stale_faces)),
+        e("split-assumes-inside", "split_edge refuses a boundary edge given by its halfedge in the hole", model().split(split_assumes_inside)),
+        e("flip-any-face", "flip_edge flips beside faces that are not triangles", model().flip(flip_any_face)),
+        e("subdivide-skips-quads", "loop_subdivide returns quietly on a mesh that is not all triangles", model().subdivide(subdivide_skips_quads)),
+        e("nan-position", "loop_subdivide leaves one vertex at NaN", model().subdivide(nan_position)),
+        e("quadratic", "right results, but after each split it finds the edges at the new vertex by scanning every edge of the mesh: quadratic time", model().subdivide(sub_quadratic)),
+    ]
 }
 
 /// A student's `loop_subdivide` calls their own `flip_edge` and
@@ -72,118 +112,6 @@ subdividing_with!(
     split_stale_vertex,
     solution::flip_edge
 );
-
-/// The model solution.
-pub fn reference() -> Implementation {
-    with(None, None, None)
-}
-
-/// Every implementation, correct ones first.
-pub fn catalogue() -> Vec<Entry> {
-    let e = |name, what, imp| Entry { name, what, imp };
-    vec![
-        e("reference", "the model solution", reference()),
-        e("alt-order", "creates elements in another order, points the split vertex at the other half, flips the other way round", with(Some(alt_flip), Some(alt_split), Some(alt_subdivide))),
-        e("alt-reverse", "splits and flips in reverse order, edge points before vertex points", with(None, None, Some(reverse_subdivide))),
-        e("stubs", "the handout's todo!() stubs", with(Some(stub_flip), Some(stub_split), Some(stub_subdivide))),
-        e("flip-none", "flip_edge always returns None", with(Some(|_, _| None), None, Some(sub_flip_none))),
-        e("flip-wrong-return", "flip_edge returns another edge", with(Some(flip_returns_other), None, Some(sub_flip_returns_other))),
-        e("flip-stale-vertex", "flip_edge does not update the halfedge of a and b", with(Some(flip_stale_vertices), None, Some(sub_flip_stale_vertices))),
-        e("flip-stale-face", "flip_edge does not update the faces' halfedge", with(Some(flip_stale_faces), None, Some(sub_flip_stale_faces))),
-        e("flip-face-labels", "flip_edge does not update the face of the halfedges that change face", with(Some(flip_face_labels), None, Some(sub_flip_face_labels))),
-        e("flip-boundary", "flip_edge does not refuse boundary edges (every other rule kept)", with(Some(flip_boundary), None, Some(sub_flip_boundary))),
-        e("flip-index-panic", "flip_edge indexes past the end of a Vec", with(Some(flip_index_panic), None, None)),
-        e("flip-unset-link", "flip_edge indexes the mesh with the unset link of a new halfedge", with(Some(flip_unset_link), None, None)),
-        e("flip-duplicates", "flip_edge does not refuse a flip whose new edge exists already", with(Some(flip_without_duplicate_check), None, None)),
-        e("flip-moves-vertex", "flip_edge relinks right but moves a vertex", with(Some(flip_moves_vertex), None, None)),
-        e("split-any-face", "split_edge splits beside faces that are not triangles", with(None, Some(split_any_face), None)),
-        e("split-marks-new", "split_edge marks the new vertex is_new and gives it a new_pos", with(None, Some(split_marks_new), None)),
-        e("split-renames-edge", "split_edge leaves e naming an edge across, not half of the old edge", with(None, Some(split_renames_edge), None)),
-        e("split-not-midpoint", "split_edge puts the new vertex a third of the way", with(None, Some(split_third), Some(sub_split_third))),
-        e("split-vertex-across", "split_edge points the new vertex's halfedge across, not along", with(None, Some(split_vertex_across), Some(sub_split_vertex_across))),
-        e("split-none", "split_edge always returns None", with(None, Some(|_, _| None), None)),
-        e("split-refuses-boundary", "split_edge refuses boundary edges, like flip_edge", with(None, Some(split_refuses_boundary), Some(sub_split_refuses_boundary))),
-        e("split-stale-vertex", "split_edge does not update b's halfedge", with(None, Some(split_stale_vertex), Some(sub_split_stale_vertex))),
-        e("split-after-split", "split_edge repairs b's halfedge with the halfedge it made in its previous call (kept in a static): right on a split alone, broken on the next", with(None, Some(split_reuses_last_half), None)),
-        e("flip-after-split", "flip_edge points a at h once split_edge has run in the process (kept in a static), as if every vertex still pointed where from_faces put it: right on a flip alone, broken after a split", with(Some(flip_after_split), Some(split_noting), None)),
-        e("loop-weights", "Loop's original weights instead of the lab's", with(None, None, Some(sub_loop_weights))),
-        e("n3-rule", "3/(8n) also for n = 3", with(None, None, Some(sub_n3_rule))),
-        e("old-not-moved", "old vertices keep their positions", with(None, None, Some(sub_old_not_moved))),
-        e("plain-midpoints", "new vertices at edge midpoints", with(None, None, Some(sub_midpoints))),
-        e("moved-first", "edge points computed from vertices already moved", with(None, None, Some(sub_moved_first))),
-        e("no-flip", "no edge flipped", with(None, None, Some(sub_no_flip))),
-        e("flip-all-new", "every new edge flipped, new-new ones too", with(None, None, Some(sub_flip_all_new))),
-        e("flip-halves", "halves of old edges marked new and flipped too", with(None, None, Some(sub_flip_halves))),
-        e("split-new-again", "splits edges created by split_edge again, without end", with(None, None, Some(sub_split_new_again))),
-        e("endless", "loop_subdivide never returns", with(None, None, Some(sub_endless))),
-        e("recursion", "loop_subdivide recurses without end", with(None, None, Some(sub_recursion))),
-        e("abort", "loop_subdivide aborts the process", with(None, None, Some(sub_abort))),
-        e("exit", "loop_subdivide calls std::process::exit(0)", with(None, None, Some(sub_exit))),
-        e("fake-verdict", "prints the grader's success line, then makes the no-flip mistake", with(None, None, Some(sub_fake_verdict))),
-        e("forged-lines", "flip_edge prints the grader's summary and verdict and panics with them after a newline", with(Some(hostile::forged_lines), None, None)),
-        e("escapes", "flip_edge prints terminal escapes (clear screen, cursor, OSC, bare CR) and panics with them", with(Some(hostile::escapes), None, None)),
-        e("new-at-origin", "never gives the split vertex its new_pos", with(None, None, Some(sub_new_at_origin))),
-        e("in-place", "moves old vertices while computing their new positions", with(None, None, Some(sub_in_place))),
-        e("in-place-vertices-first", "the handout's loop order, moving each vertex inside the vertex loop", with(None, None, Some(sub_in_place_vertices_first))),
-        e("swapped-edge-weights", "1/8 on the edge's ends, 3/8 on the far corners", with(None, None, Some(sub_swapped_edge_weights))),
-        e("edge-points-while-splitting", "computes each edge's point just before splitting it", with(None, None, Some(sub_edge_points_while_splitting))),
-        e("neighbour-skipped", "the walk around a vertex misses one neighbour", with(None, None, Some(sub_neighbour_skipped))),
-        e("wrong-corner", "the far corners read one step short (mesh[h.next].vertex)", with(None, None, Some(sub_wrong_corner))),
-        e("integer-u", "u = 3 / (8 * n) in integers, 0 for n other than 3", with(None, None, Some(sub_integer_u))),
-        e("flip-all-new-checked", "every new edge flipped, with a flip that refuses duplicate edges", with(None, None, Some(sub_flip_all_new_checked))),
-        e("flip-halves-checked", "all four edges at a new vertex marked new, with a flip that refuses duplicate edges", with(None, None, Some(sub_flip_halves_checked))),
-        e("stale-flags", "never resets is_new at the start of a round", with(None, None, Some(sub_stale_flags))),
-        e("split-returns-old", "split_edge returns an end of the edge instead of the new vertex", with(None, Some(split_returns_old), None)),
-        e("split-stale-b", "split_edge never updates b's halfedge (passes on meshes as built from faces)", with(None, Some(hostile::split_stale_b), None)),
-        e("split-stale-faces", "split_edge never resets the halfedge of the faces it shrinks", with(None, Some(hostile::split_stale_faces), None)),
-        e("split-assumes-inside", "split_edge refuses a boundary edge given by its halfedge in the hole", with(None, Some(hostile::split_assumes_inside), None)),
-        e("flip-any-face", "flip_edge flips beside faces that are not triangles", with(Some(hostile::flip_any_face), None, None)),
-        e("subdivide-skips-quads", "loop_subdivide returns quietly on a mesh that is not all triangles", with(None, None, Some(hostile::subdivide_skips_quads))),
-        e("nan-position", "loop_subdivide leaves one vertex at NaN", with(None, None, Some(hostile::nan_position))),
-        e("tamper", "reads the fixtures and the grader's command line, tampers with fixtures and results.json, then makes the no-flip mistake", with(None, None, Some(hostile::tamper))),
-        e("forge-frames", "writes a forged result on every file descriptor, then exits", with(None, None, Some(hostile::forge_frames))),
-        e("orphan", "leaves a process holding the grader's pipes for 40 s", with(None, None, Some(hostile::orphan))),
-        e("detached", "leaves a detached process that rewrites results.json after the grader finished", with(None, None, Some(hostile::detached))),
-        e("memory-hog", "touches 6 GiB of memory", with(None, None, Some(hostile::memory_hog))),
-        e("replace-and-grow", "replaces the mesh with Mesh::new() and grows it without end", with(None, None, Some(hostile::replace_and_grow))),
-        e("huge-position", "flip_edge flips right but leaves a vertex at (1e300, 0, 0)", with(Some(hostile::huge_position), None, None)),
-        e("sockets", "tries TCP, UDP, a Unix socket by path and an abstract one, then makes the no-flip mistake", with(None, None, Some(hostile::sockets))),
-        e("sysv-shm", "leaves 480 MiB in System V shared memory segments, then subdivides right", with(None, None, Some(hostile::sysv_shm))),
-        e("process-chain", "leaves a chain of 450 processes, each the parent of the next, deeper than the sweeps reach", with(None, None, Some(hostile::process_chain))),
-        e("inherited-fd", "empties a file through a descriptor inherited from whatever started the grader", with(None, None, Some(hostile::inherited_fd))),
-        e("reach-parent", "signals, traces and reads the grader, then makes the no-flip mistake", with(None, None, Some(hostile::reach_parent))),
-        e("renice-parent", "lowers the grader's priority and changes its limits, then makes the no-flip mistake", with(None, None, Some(hostile::renice_parent))),
-        e("fork-memory", "forks three processes of 160 MiB each, then subdivides right", with(None, None, Some(hostile::fork_memory))),
-        e("crafted-frame", "sends a result of its own with links out of range, then exits", with(None, None, Some(hostile::crafted_frame))),
-        e("flood", "prints 64 MiB on each of stdout and stderr, then makes the no-flip mistake", with(None, None, Some(hostile::flood))),
-        e("hook-abort", "installs a panic hook that aborts, then panics", with(None, None, Some(hostile::hook_abort))),
-        e("thread-overflow", "recurses without end in a thread of its own", with(None, None, Some(hostile::thread_overflow))),
-        e("payload-drop-panics", "panics with a payload whose drop panics again", with(None, None, Some(hostile::payload_drop_panics))),
-        e("huge-mesh", "returns a mesh of ten million halfedges built from records", with(None, None, Some(hostile::huge_mesh))),
-        e("root-powers", "lifts its own memory cap where it kept the privilege to, then touches 400 MiB and subdivides right", with(None, None, Some(hostile::root_powers))),
-        e("outlive-grader", "clears its parent-death signal and waits a minute in the call, to outlive a killed grader", with(None, None, Some(hostile::outlive_grader))),
-        e("prctl-undo", "tries the prctl options that undo protections (parent-death signal, dumpable, ptracer, keepcaps, subreaper), then makes the no-flip mistake", with(None, None, Some(hostile::prctl_undo))),
-        e("starve", "pins the grader to one CPU and puts it on SCHED_IDLE, then makes the no-flip mistake", with(None, None, Some(hostile::starve))),
-        e("watch-files", "watches /tmp, /etc and the hidden fixtures with inotify and fanotify, then makes the no-flip mistake", with(None, None, Some(hostile::watch_files))),
-        e("terminal", "stays in the grader's session and types a command into its terminal with TIOCSTI, then makes the no-flip mistake", with(None, None, Some(hostile::terminal))),
-        e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", with(None, None, Some(hostile::grader_memory))),
-        e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", with(None, None, Some(hostile::kernel_calls))),
-        e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", with(None, None, Some(hostile::fake_sandbox_failure))),
-        e("quadratic", "right results, but after each split it finds the edges at the new vertex by scanning every edge of the mesh: quadratic time", with(None, None, Some(sub_quadratic))),
-        e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", with(Some(crate::lookup::flip_edge), Some(crate::lookup::split_edge), Some(crate::lookup::loop_subdivide))),
-        e("file-metadata", "changes the mode, times, an extended attribute and the owner of a file it may not open, then makes the no-flip mistake", with(None, None, Some(hostile::file_metadata))),
-        e("kernel-buffers", "fills socket pairs and pipes, kernel memory no address-space cap counts, then subdivides right", with(None, None, Some(hostile::kernel_buffers))),
-        e("ipc-by-id", "sends to a System V message queue and attaches shared memory it finds by index, then makes the no-flip mistake", with(None, None, Some(hostile::ipc_by_id))),
-        e("probes", "tries a shell, a memfd past the cap, raising its limits, kill -1, real-time priority, /dev/shm, its pipes through /proc, the hidden fixtures by path, a thread bomb; then makes the no-flip mistake", with(None, None, Some(hostile::probes))),
-        e("wipe-files", "empties, truncates, renames, links and removes a file of its user, makes a folder, a link and a pipe beside it, then makes the no-flip mistake", with(None, None, Some(hostile::wipe_files))),
-        e(hostile::INIT_LOOP, "a static initialiser that never returns, before main", with(None, None, None)),
-    ]
-}
-
-/// The catalogue entry named `name`.
-pub fn find(name: &str) -> Option<Entry> {
-    catalogue().into_iter().find(|e| e.name == name)
-}
 
 /// A subdivision mistake the fixtures record.
 pub struct KnownMistake {
@@ -230,73 +158,6 @@ fn stub_split(_: &mut Mesh, _: EdgeId) -> Option<VertexId> {
 }
 fn stub_subdivide(_: &mut Mesh) {
     todo!("loop_subdivide: compute new positions, split old edges, flip old-new edges, move")
-}
-
-// ---- other correct answers ---------------------------------------------------
-
-/// A flip that relabels the other way: h ends up running c -> d.
-fn alt_flip(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
-    let h = mesh[e].halfedge;
-    let t = mesh[h].twin;
-    // Flipping from the twin's side gives the same edge, with h and t swapped.
-    mesh[e].halfedge = t;
-    let r = solution::flip_edge(mesh, e);
-    if r.is_none() {
-        mesh[e].halfedge = h;
-    }
-    r
-}
-
-/// A split that starts from the other halfedge: the new elements take the
-/// other roles and the new vertex points at the other half of the old edge.
-fn alt_split(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
-    let h = mesh[e].halfedge;
-    mesh[e].halfedge = mesh[h].twin;
-    let m = solution::split_edge(mesh, e);
-    if m.is_none() {
-        mesh[e].halfedge = h;
-    }
-    m
-}
-
-fn alt_subdivide(mesh: &mut Mesh) {
-    steps(mesh, Weights::Warren, alt_split, alt_flip);
-}
-
-/// Edge points before vertex points, splits and flips last edge first.
-fn reverse_subdivide(mesh: &mut Mesh) {
-    solution::edge_points(mesh);
-    solution::vertex_points(mesh, Weights::Warren);
-    let mut old: Vec<EdgeId> = mesh.edge_ids().collect();
-    old.reverse();
-    solution::split_edges(mesh, &old, solution::split_edge);
-    let mut all: Vec<EdgeId> = mesh.edge_ids().collect();
-    all.reverse();
-    solution::flip_old_new(mesh, &all, solution::flip_edge);
-    solution::move_vertices(mesh);
-}
-
-/// The solution's steps with the given weights, split and flip.
-fn steps(
-    mesh: &mut Mesh,
-    weights: Weights,
-    split: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
-    flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
-) {
-    if let Some(f) = mesh.first_non_triangle() {
-        panic!("loop_subdivide needs triangles, but {f} is not a triangle");
-    }
-    solution::vertex_points(mesh, weights);
-    solution::edge_points(mesh);
-    split_old(mesh, split);
-    let all: Vec<EdgeId> = mesh.edge_ids().collect();
-    solution::flip_old_new(mesh, &all, flip);
-    solution::move_vertices(mesh);
-}
-
-fn split_old(mesh: &mut Mesh, split: fn(&mut Mesh, EdgeId) -> Option<VertexId>) {
-    let old: Vec<EdgeId> = mesh.edge_ids().collect();
-    solution::split_edges(mesh, &old, split);
 }
 
 // ---- flip mistakes -----------------------------------------------------------
@@ -870,7 +731,49 @@ fn sub_quadratic(mesh: &mut Mesh) {
     solution::move_vertices(mesh);
 }
 
-fn sub_fake_verdict(mesh: &mut Mesh) {
-    println!("grade.rs:1 [info] all tests passed, congratulations!");
-    sub_no_flip(mesh);
+// ---- mistakes once kept among the attacks ----------------------------------
+
+/// Subdivides right, then leaves one vertex at NaN.
+pub fn nan_position(mesh: &mut Mesh) {
+    solution::loop_subdivide(mesh);
+    let v = VertexId::from_index(mesh.num_vertices() / 2);
+    mesh[v].pos.y = f64::NAN;
+}
+
+/// A split that never resets the halfedge of the faces it shrinks.
+pub fn split_stale_faces(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let h = mesh[e].halfedge;
+    let faces = [mesh[h].face, mesh[mesh[h].twin].face];
+    let before = faces.map(|f| mesh[f].halfedge);
+    let m = solution::split_edge(mesh, e)?;
+    for (f, old) in faces.into_iter().zip(before) {
+        mesh[f].halfedge = old;
+    }
+    Some(m)
+}
+
+/// A split that assumes `mesh[e].halfedge` lies in a real face: on a
+/// boundary edge given by its hole side, it divides the hole.
+pub fn split_assumes_inside(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let h = mesh[e].halfedge;
+    if mesh[mesh[h].face].is_boundary {
+        return None;
+    }
+    solution::split_edge(mesh, e)
+}
+
+/// A flip with no check that the faces are triangles.
+pub fn flip_any_face(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    if mesh.edge_on_boundary(e) {
+        return None;
+    }
+    solution::relink_flip(mesh, e);
+    Some(e)
+}
+
+/// A subdivision that quietly skips a mesh that is not all triangles.
+pub fn subdivide_skips_quads(mesh: &mut Mesh) {
+    if mesh.first_non_triangle().is_none() {
+        solution::loop_subdivide(mesh);
+    }
 }
