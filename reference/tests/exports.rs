@@ -764,16 +764,6 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert!(output.contains("unclosed delimiter"), "{output}");
     assert!(!output.contains("Compiling "), "{output}");
 
-    // A warning is shown, the grade is unaffected.
-    let warned = solution() + "\nfn unused_helper() {}\n";
-    let (warn, _, warn_log) = grade(&[("lib.rs", warned)], None);
-    assert_eq!(warn["score"].as_f64(), Some(max));
-    assert!(
-        warn["output"].as_str().unwrap().contains("unused_helper"),
-        "{}",
-        warn["output"]
-    );
-
     // Only another crate's file: refused, saying what was expected.
     let (none, _, _) = grade(&[("crates/halfedge/src/lib.rs", solution())], None);
     assert_eq!(none["score"].as_f64(), Some(0.0));
@@ -804,15 +794,23 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let (leak, _, log) = grade(&[("lib.rs", embedding(&relative))], None);
     does_not_compile(&leak, &log, "No such file or directory");
     // ... while the same path to a lab case compiles and grades: the path
-    // is right, only the hidden cases are out of reach.
-    let (control, _, log) = grade(
-        &[(
-            "lib.rs",
-            embedding("../../../fixtures/lab/cube-flip-1.json"),
-        )],
-        None,
+    // is right, only the hidden cases are out of reach. (The same upload
+    // carries a warning: it is shown, the grade is unaffected.)
+    let warned = embedding("../../../fixtures/lab/cube-flip-1.json") + "\nfn unused_helper() {}\n";
+    let (control, _, warn_log) = grade(&[("lib.rs", warned)], None);
+    assert_eq!(
+        control["score"].as_f64(),
+        Some(max),
+        "{warn_log}\n{control}"
     );
-    assert_eq!(control["score"].as_f64(), Some(max), "{log}\n{control}");
+    assert!(
+        control["output"]
+            .as_str()
+            .unwrap()
+            .contains("unused_helper"),
+        "{}",
+        control["output"]
+    );
     // ... and by the absolute path of the folder they moved to (published
     // with this bundle): root only, and out of the locked-in build's reach,
     // whoever runs it.
