@@ -1722,3 +1722,88 @@ fn without_landlock_class_builds_run_as_nobody_on_a_private_copy() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The export edits the workspace manifest as TOML: a TA's layout (members
+/// one a line, with a comment among them; a dependency as a table of its
+/// own) exports to the same student workspace as the lab's one-line list.
+#[test]
+fn handout_exports_a_reformatted_workspace_manifest() {
+    let dir = scratch("reformatted");
+    let lab = dir.join("lab");
+    reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
+    let real = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let mut doc: toml_edit::DocumentMut = real.parse().unwrap();
+    let workspace = doc["workspace"].as_table_mut().unwrap();
+    let members: Vec<String> = workspace["members"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap().to_string())
+        .collect();
+    assert!(members.len() > 5, "the lab's members: {members:?}");
+    workspace.remove("members");
+    let mut spread = String::from("members = [\n    # The lab's crates, one a line.\n");
+    for m in &members {
+        spread.push_str(&format!("    \"{m}\",\n"));
+    }
+    spread.push_str("]\n");
+    let text = doc
+        .to_string()
+        .replacen("[workspace]\n", &format!("[workspace]\n{spread}"), 1)
+        + "\n[workspace.dependencies.ta-only-tool]\nversion = \"1\"\n";
+    assert!(text.contains("    \"grader/child\",\n"), "{text}");
+    std::fs::write(lab.join("Cargo.toml"), &text).unwrap();
+
+    let out = dir.join("out");
+    reference::handout::export(&lab, &out).unwrap();
+    let exported = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+    let doc: toml_edit::DocumentMut = exported.parse().unwrap();
+    let kept: Vec<&str> = doc["workspace"]["members"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        kept,
+        [
+            "crates/halfedge",
+            "crates/meshedit",
+            "crates/sha256",
+            "grader",
+            "grader/child"
+        ],
+        "{exported}"
+    );
+    let deps = doc["workspace"]["dependencies"].as_table().unwrap();
+    for gone in [
+        "insta",
+        "autograde",
+        "toml_edit",
+        "tempfile",
+        "ta-only-tool",
+    ] {
+        assert!(!deps.contains_key(gone), "{gone} kept:\n{exported}");
+    }
+    for used in ["glam", "halfedge", "clap", "serde_json"] {
+        assert!(deps.contains_key(used), "{used} dropped:\n{exported}");
+    }
+    assert!(exported.contains("[profile.release]"), "{exported}");
+    let meta = Command::new(env!("CARGO"))
+        .args(["metadata", "--locked", "--offline", "--format-version", "1"])
+        .args(["--no-deps"])
+        .current_dir(&out)
+        .output()
+        .unwrap();
+    assert!(
+        meta.status.success(),
+        "{}",
+        String::from_utf8_lossy(&meta.stderr)
+    );
+
+    // A manifest without members is refused, saying what is missing.
+    std::fs::write(lab.join("Cargo.toml"), "[workspace]\nresolver = \"2\"\n").unwrap();
+    let err = reference::handout::export(&lab, &dir.join("none")).unwrap_err();
+    assert!(err.contains("members"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
