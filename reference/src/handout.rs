@@ -428,9 +428,10 @@ pub fn update(root: &Path, dest: &Path) -> Result<Updated, String> {
             dest.display()
         ));
     }
-    let fresh = std::env::temp_dir().join(format!("meshlab-update-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&fresh);
-    let result = (|| {
+    // Removed when dropped, however this returns.
+    let scratch = private_temp_dir("meshlab-update-")?;
+    let fresh = scratch.path().join("lab");
+    (|| {
         export(root, &fresh)?;
         let mut done = Updated::default();
         let new_files = list_files(&fresh)?;
@@ -456,9 +457,23 @@ pub fn update(root: &Path, dest: &Path) -> Result<Updated, String> {
             }
         }
         Ok(done)
-    })();
-    let _ = std::fs::remove_dir_all(&fresh);
-    result
+    })()
+}
+
+/// A new temporary folder only this user may enter, under an unguessable
+/// name (so nobody else's folder or link is used), removed with everything
+/// in it when the value is dropped. Every temporary folder the TA tool
+/// makes for itself comes from here.
+pub fn private_temp_dir(prefix: &str) -> Result<tempfile::TempDir, String> {
+    tempfile::Builder::new()
+        .prefix(prefix)
+        .tempdir()
+        .map_err(|e| {
+            format!(
+                "cannot make a temporary folder in {}: {e}",
+                std::env::temp_dir().display()
+            )
+        })
 }
 
 /// How the Gradescope bundle grades.
