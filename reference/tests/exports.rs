@@ -203,6 +203,23 @@ fn write(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap();
 }
 
+/// Asserts that cargo reads the workspace at `dir` with its lock file as
+/// it is (`cargo metadata --locked --offline`).
+fn assert_locked(dir: &Path) {
+    let meta = Command::new(env!("CARGO"))
+        .args(["metadata", "--locked", "--offline", "--format-version", "1"])
+        .arg("--no-deps")
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        meta.status.success(),
+        "{}: {}",
+        dir.display(),
+        String::from_utf8_lossy(&meta.stderr)
+    );
+}
+
 fn tests_of(results: &serde_json::Value) -> Vec<serde_json::Value> {
     results["tests"].as_array().cloned().unwrap_or_default()
 }
@@ -307,23 +324,7 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
     for block in lock.split("\n\n").filter(|b| b.contains("[[package]]")) {
         assert!(lab_lock.contains(block.trim()), "changed: {block}");
     }
-    let meta = Command::new(env!("CARGO"))
-        .args([
-            "metadata",
-            "--locked",
-            "--offline",
-            "--format-version",
-            "1",
-            "--no-deps",
-        ])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        meta.status.success(),
-        "{}",
-        String::from_utf8_lossy(&meta.stderr)
-    );
+    assert_locked(&dir);
 
     // Exporting into a folder that has files is refused, naming --update.
     let again = run(&["handout", dir.to_str().unwrap()]);
@@ -1789,17 +1790,7 @@ fn handout_exports_a_reformatted_workspace_manifest() {
         assert!(deps.contains_key(used), "{used} dropped:\n{exported}");
     }
     assert!(exported.contains("[profile.release]"), "{exported}");
-    let meta = Command::new(env!("CARGO"))
-        .args(["metadata", "--locked", "--offline", "--format-version", "1"])
-        .args(["--no-deps"])
-        .current_dir(&out)
-        .output()
-        .unwrap();
-    assert!(
-        meta.status.success(),
-        "{}",
-        String::from_utf8_lossy(&meta.stderr)
-    );
+    assert_locked(&out);
 
     // A manifest without members is refused, saying what is missing.
     std::fs::write(lab.join("Cargo.toml"), "[workspace]\nresolver = \"2\"\n").unwrap();

@@ -3,7 +3,7 @@
 //! OBJ vertex numbers (from 1), the round and size limits, and writing a
 //! result only once it validates.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use halfedge::{EdgeId, Mesh};
 
@@ -11,6 +11,17 @@ use halfedge::{EdgeId, Mesh};
 pub const MAX_ROUNDS: usize = 10;
 /// Reader warnings printed one by one; the summary line counts them all.
 const MAX_WARNINGS_SHOWN: usize = 10;
+
+/// An OBJ file, one of its edges by its two vertices' numbers, and where
+/// the result goes (`flip`, `split`).
+#[derive(clap::Args)]
+pub struct EdgeArgs {
+    pub input: PathBuf,
+    pub a: usize,
+    pub b: usize,
+    #[arg(short = 'o', long)]
+    pub output: PathBuf,
+}
 
 /// Reads an OBJ file and prints what the reader ignored to stderr.
 pub fn read_obj(path: &Path) -> Result<Mesh, String> {

@@ -1,24 +1,17 @@
 //! `split`: the reference's split of one edge of an OBJ.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use reference::solution;
 
-use super::obj::{obj_with_edge, write_obj};
+use super::obj::{obj_with_edge, write_obj, EdgeArgs};
 use super::Outcome;
 
-#[derive(clap::Args)]
-pub struct Args {
-    input: PathBuf,
-    a: usize,
-    b: usize,
-    #[arg(short = 'o', long)]
-    output: PathBuf,
-}
+/// `split`'s arguments: the OBJ, the edge, the output.
+pub type Args = EdgeArgs;
 
 pub fn run(args: Args) -> Outcome {
-    let Args {
+    let EdgeArgs {
         input,
         a,
         b,
