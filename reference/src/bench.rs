@@ -435,14 +435,14 @@ fn edit_to_verdict(runs: usize) -> Result<(), String> {
     let as_it_stands = time_edits(&root, None, runs)?;
     print_edit("the crate as it stands", &as_it_stands, EDIT_TARGET_STUBS);
 
-    let copy = std::env::temp_dir().join(format!("meshlab-bench-edit-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&copy);
+    let scratch = reference::handout::private_temp_dir("meshlab-bench-edit-")?;
+    let copy = scratch.path().join("lab");
     reference::handout::copy_lab(&root, &copy, reference::handout::Purpose::Handout)?;
     let pasted = copy.join("crates/meshedit/src/lib.rs");
     std::fs::write(&pasted, include_str!("solution.rs"))
         .map_err(|e| format!("{}: {e}", pasted.display()))?;
     let correct = time_edits(&copy, Some(&root.join("target/bench-edit")), runs);
-    let _ = std::fs::remove_dir_all(&copy);
+    drop(scratch);
     print_edit(
         "a correct solution (the model's, pasted in)",
         &correct?,

@@ -203,6 +203,23 @@ fn write(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap();
 }
 
+/// Asserts that cargo reads the workspace at `dir` with its lock file as
+/// it is (`cargo metadata --locked --offline`).
+fn assert_locked(dir: &Path) {
+    let meta = Command::new(env!("CARGO"))
+        .args(["metadata", "--locked", "--offline", "--format-version", "1"])
+        .arg("--no-deps")
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        meta.status.success(),
+        "{}: {}",
+        dir.display(),
+        String::from_utf8_lossy(&meta.stderr)
+    );
+}
+
 fn tests_of(results: &serde_json::Value) -> Vec<serde_json::Value> {
     results["tests"].as_array().cloned().unwrap_or_default()
 }
@@ -307,23 +324,7 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
     for block in lock.split("\n\n").filter(|b| b.contains("[[package]]")) {
         assert!(lab_lock.contains(block.trim()), "changed: {block}");
     }
-    let meta = Command::new(env!("CARGO"))
-        .args([
-            "metadata",
-            "--locked",
-            "--offline",
-            "--format-version",
-            "1",
-            "--no-deps",
-        ])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        meta.status.success(),
-        "{}",
-        String::from_utf8_lossy(&meta.stderr)
-    );
+    assert_locked(&dir);
 
     // Exporting into a folder that has files is refused, naming --update.
     let again = run(&["handout", dir.to_str().unwrap()]);
@@ -1720,5 +1721,80 @@ fn without_landlock_class_builds_run_as_nobody_on_a_private_copy() {
         (pat.max, "passed"),
         "{pat:?}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The export edits the workspace manifest as TOML: a TA's layout (members
+/// one a line, with a comment among them; a dependency as a table of its
+/// own) exports to the same student workspace as the lab's one-line list.
+#[test]
+fn handout_exports_a_reformatted_workspace_manifest() {
+    let dir = scratch("reformatted");
+    let lab = dir.join("lab");
+    reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
+    let real = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let mut doc: toml_edit::DocumentMut = real.parse().unwrap();
+    let workspace = doc["workspace"].as_table_mut().unwrap();
+    let members: Vec<String> = workspace["members"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap().to_string())
+        .collect();
+    assert!(members.len() > 5, "the lab's members: {members:?}");
+    workspace.remove("members");
+    let mut spread = String::from("members = [\n    # The lab's crates, one a line.\n");
+    for m in &members {
+        spread.push_str(&format!("    \"{m}\",\n"));
+    }
+    spread.push_str("]\n");
+    let text = doc
+        .to_string()
+        .replacen("[workspace]\n", &format!("[workspace]\n{spread}"), 1)
+        + "\n[workspace.dependencies.ta-only-tool]\nversion = \"1\"\n";
+    assert!(text.contains("    \"grader/child\",\n"), "{text}");
+    std::fs::write(lab.join("Cargo.toml"), &text).unwrap();
+
+    let out = dir.join("out");
+    reference::handout::export(&lab, &out).unwrap();
+    let exported = std::fs::read_to_string(out.join("Cargo.toml")).unwrap();
+    let doc: toml_edit::DocumentMut = exported.parse().unwrap();
+    let kept: Vec<&str> = doc["workspace"]["members"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        kept,
+        [
+            "crates/halfedge",
+            "crates/meshedit",
+            "crates/sha256",
+            "grader",
+            "grader/child"
+        ],
+        "{exported}"
+    );
+    let deps = doc["workspace"]["dependencies"].as_table().unwrap();
+    for gone in [
+        "insta",
+        "autograde",
+        "toml_edit",
+        "tempfile",
+        "ta-only-tool",
+    ] {
+        assert!(!deps.contains_key(gone), "{gone} kept:\n{exported}");
+    }
+    for used in ["glam", "halfedge", "clap", "serde_json"] {
+        assert!(deps.contains_key(used), "{used} dropped:\n{exported}");
+    }
+    assert!(exported.contains("[profile.release]"), "{exported}");
+    assert_locked(&out);
+
+    // A manifest without members is refused, saying what is missing.
+    std::fs::write(lab.join("Cargo.toml"), "[workspace]\nresolver = \"2\"\n").unwrap();
+    let err = reference::handout::export(&lab, &dir.join("none")).unwrap_err();
+    assert!(err.contains("members"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
