@@ -3,8 +3,8 @@
 //!
 //! - [`sandbox`]: the launcher that locks the child in (Landlock, rlimits,
 //!   namespaces, dropping root); [`seccomp`]: its system-call filter.
-//! - [`runner`]: starting, timing and killing the child, and how a run
-//!   ended.
+//! - [`runner`]: starting, timing and killing the child; [`end`]: how a
+//!   case ended, the one type the judge and the reports read.
 //! - [`wire`]: what crosses the pipes, in both directions.
 //! - [`child`]: the child's side ([`child::serve`]) and the parent's
 //!   reading of its result ([`child::analyze`]).
@@ -13,6 +13,7 @@
 
 pub mod build_sandbox;
 pub mod child;
+pub mod end;
 pub mod runner;
 pub mod sandbox;
 pub mod seccomp;

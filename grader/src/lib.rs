@@ -450,7 +450,7 @@ fn grade_case(
     timeout: Duration,
     protections: &mut Option<String>,
 ) -> Result<grade::CaseReport, String> {
-    use runner::{ChildReport, Exit, Run};
+    use crate::isolate::end::CaseEnd;
     let f = case.fixture;
     let (seed, labellings) = (case.seed, &case.labellings);
     let budget = budget(f);
@@ -497,72 +497,32 @@ fn grade_case(
         } else {
             0
         };
-        let raw = runner::run_child(
+        let mut child_report = runner::run_child(
             program,
             limits,
-            request.encode_asking(record),
+            &request,
+            record,
             timeout,
             budget * 64 + (1 << 20) + recording,
         )
         .map_err(|e| format!("cannot start a grading process: {e}"))?;
         if protections.is_none() {
-            *protections = raw.sandbox.clone();
+            *protections = child_report.sandbox.clone();
         }
-        let mut result = None;
-        let mut recorded = None;
-        let run = match raw.exit {
-            Exit::Finished(wire::Ran::Panicked {
-                message,
-                location,
-                grew_past: Some(limit),
-                ..
-            }) => Run::GrewPast {
-                limit,
-                message,
-                location,
-            },
-            Exit::Finished(mut ran) => {
-                if let wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } = &ran {
-                    result = Some(mesh.clone());
-                }
-                if let wire::Ran::Returned { recorded: r, .. }
-                | wire::Ran::Panicked { recorded: r, .. } = &mut ran
-                {
-                    recorded = r.take();
-                }
-                let mut outcome = child::analyze(op, &l.mesh, ran);
-                if let child::Outcome::Sequence { steps, .. } = &mut outcome {
-                    to_input_names(steps, &l.vertices);
-                }
-                Run::Done(outcome)
-            }
-            Exit::TimedOut(d) => Run::TimedOut(d),
-            Exit::StuckBeforeCall(d) => Run::StuckBeforeCall(d),
-            Exit::StackOverflow => Run::StackOverflow,
-            Exit::OutOfMemory => Run::OutOfMemory(limits.memory),
-            Exit::Signal(s) => Run::Signal(s),
-            Exit::Exited(c) => Run::Exited(c),
-            Exit::Garbled(why) => Run::Garbled(why),
-            Exit::TooLarge(n) => Run::TooLarge(n),
-            Exit::SandboxFailed(why) => {
+        match &mut child_report.end {
+            CaseEnd::SandboxFailed { why } => {
                 return Err(format!("the grading sandbox could not be set up: {why}"))
             }
-        };
+            CaseEnd::Sequence(seq) => to_input_names(&mut seq.steps, &l.vertices),
+            _ => {}
+        }
+        let result = child_report.mesh.take();
+        let recorded = child_report.recorded.take();
         // The judge walks data the student's code made: a panic there is
         // the grader's bug, said as such, never a crash of the whole run.
-        let child_report = ChildReport {
-            run,
-            output: raw.output,
-        };
         let mut report = match child::guarded(|| grade::judge(f, &child_report)) {
             Ok(r) => r,
-            Err((message, _)) => grade::judge(
-                f,
-                &ChildReport {
-                    run: runner::Run::JudgeFailed(message),
-                    output: child_report.output.clone(),
-                },
-            ),
+            Err((message, _)) => grade::judge_failed(f, &message, &child_report.output),
         };
         report.input = Some(l.mesh.clone());
         report.result = result;

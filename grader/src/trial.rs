@@ -12,8 +12,9 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use halfedge::Mesh;
 
-use crate::isolate::child::{self, Outcome, Returned};
-use crate::isolate::runner::{self, ChildProgram, Exit};
+use crate::isolate::child::{Finished, Returned};
+use crate::isolate::end::CaseEnd;
+use crate::isolate::runner::{self, ChildProgram};
 use crate::isolate::sandbox;
 use crate::isolate::wire::{self, Op};
 use crate::parse_memory;
@@ -231,7 +232,8 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
     let raw = match runner::run_child(
         program,
         &limits,
-        request.encode(),
+        &request,
+        false,
         Duration::from_secs_f64(cli.timeout),
         budget as usize * 64 + (1 << 20),
     ) {
@@ -246,25 +248,14 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
         "{}",
         crate::report::quoted::Quoted::new(raw.output.clone()).block("    ")
     );
-    let ran = match raw.exit {
-        Exit::Finished(ran) => ran,
-        other => {
-            say!(
-                true,
-                &format!("{function} did not return: {}", describe_exit(&other, cli))
-            );
-            return ExitCode::from(1);
-        }
-    };
-    let result = match &ran {
-        wire::Ran::Returned { mesh, .. } | wire::Ran::Sequence { mesh, .. } => Some(mesh.clone()),
-        wire::Ran::Panicked { .. } => None,
-    };
+    let result = raw.mesh;
     seen.result = result.clone();
-    match child::analyze(op, &mesh, ran) {
+    match raw.end {
         // `try` sends one operation, never a sequence.
-        Outcome::Sequence { .. } => ExitCode::from(1),
-        Outcome::Panicked { message, location } => {
+        CaseEnd::Sequence(_) => ExitCode::from(1),
+        CaseEnd::Panicked {
+            message, location, ..
+        } => {
             let message = crate::report::quoted::Quoted::new(message);
             say!(true, &format!("{function} panicked: {}", message.inline()));
             if !message.fits_inline() {
@@ -278,13 +269,14 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
             }
             ExitCode::from(1)
         }
-        Outcome::Finished {
-            returned,
-            before,
-            after,
-            invalid,
-            ..
-        } => {
+        CaseEnd::Returned(finished) => {
+            let Finished {
+                returned,
+                before,
+                after,
+                invalid,
+                ..
+            } = *finished;
             say!(
                 false,
                 &format!(
@@ -321,6 +313,13 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
                 Err(e) => fail(&e),
             }
         }
+        other => {
+            say!(
+                true,
+                &format!("{function} did not return: {}", describe_exit(&other, cli))
+            );
+            ExitCode::from(1)
+        }
     }
 }
 
@@ -336,24 +335,29 @@ fn returned_text(r: &Returned) -> String {
     }
 }
 
-fn describe_exit(exit: &Exit, cli: &TryCli) -> String {
-    match exit {
-        Exit::TimedOut(d) => format!(
+fn describe_exit(end: &CaseEnd, cli: &TryCli) -> String {
+    match end {
+        CaseEnd::TimedOut { limit } => format!(
             "still running after {} s (--timeout changes it)",
-            d.as_secs_f64()
+            limit.as_secs_f64()
         ),
-        Exit::StuckBeforeCall(_) => "the program never reached it".into(),
-        Exit::StackOverflow => "it overflowed the stack".into(),
-        Exit::OutOfMemory => format!(
+        CaseEnd::StuckBeforeCall { .. } => "the program never reached it".into(),
+        CaseEnd::StackOverflow => "it overflowed the stack".into(),
+        CaseEnd::OutOfMemory { .. } => format!(
             "it used more than {} of memory (--memory changes the cap)",
             sandbox::format_bytes(cli.memory)
         ),
-        Exit::Signal(s) => format!("it crashed with signal {s}"),
-        Exit::Exited(c) => format!("it ended the program (exit status {c:?})"),
-        Exit::Garbled(why) => format!("its result could not be read ({why})"),
-        Exit::TooLarge(n) => format!("its result was far too large ({} MiB)", n >> 20),
-        Exit::SandboxFailed(why) => format!("the sandbox could not be set up: {why}"),
-        Exit::Finished(_) => "it returned".into(),
+        CaseEnd::Signal { signal } => format!("it crashed with signal {signal}"),
+        CaseEnd::Exited { code } => format!("it ended the program (exit status {code:?})"),
+        CaseEnd::Garbled { why } => format!("its result could not be read ({why})"),
+        CaseEnd::TooLarge { bytes } => {
+            format!("its result was far too large ({} MiB)", bytes >> 20)
+        }
+        CaseEnd::SandboxFailed { why } => format!("the sandbox could not be set up: {why}"),
+        CaseEnd::Returned(_)
+        | CaseEnd::Sequence(_)
+        | CaseEnd::Panicked { .. }
+        | CaseEnd::JudgeFailed => "it returned".into(),
     }
 }
 

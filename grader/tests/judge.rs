@@ -5,8 +5,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use grader::isolate::child::{Counts, MeshResult, Outcome, Returned, SplitIds};
-use grader::isolate::runner::{ChildReport, Run};
+use grader::isolate::child::{Counts, Finished, MeshResult, Returned, SplitIds};
+use grader::isolate::end::CaseEnd;
+use grader::isolate::runner::ChildReport;
 use grader::judge::fixture::{self, Fixture, Returns};
 use grader::judge::grade::{judge, CaseReport, Level};
 
@@ -132,18 +133,15 @@ fn finished(
     invalid: Option<halfedge::Invalid>,
     mesh: Option<MeshResult>,
 ) -> CaseReport {
-    let child = ChildReport {
-        run: Run::Done(Outcome::Finished {
-            before: input_counts(f),
-            after,
-            invalid: invalid.map(grader::isolate::child::Problem::of),
-            mesh: mesh.map(Box::new),
-            // A refusal that returns None is taken to have left the mesh alone.
-            unchanged: returned == Returned::Nothing,
-            returned,
-        }),
-        output: String::new(),
-    };
+    let child = ChildReport::bare(CaseEnd::Returned(Box::new(Finished {
+        before: input_counts(f),
+        after,
+        invalid: invalid.map(grader::isolate::child::Problem::of),
+        mesh: mesh.map(Box::new),
+        // A refusal that returns None is taken to have left the mesh alone.
+        unchanged: returned == Returned::Nothing,
+        returned,
+    })));
     judge(f, &child)
 }
 
@@ -364,39 +362,41 @@ fn an_invalid_mesh_stops_the_case() {
     assert!(!lines(&r, Level::Info).contains(&"compare all vertices...".to_string()));
 }
 
-fn faulted(f: &Fixture, run: Run) -> CaseReport {
-    judge(
-        f,
-        &ChildReport {
-            run,
-            output: "debug print\n".into(),
-        },
-    )
+fn faulted(f: &Fixture, end: CaseEnd) -> CaseReport {
+    let mut child = ChildReport::bare(end);
+    child.output = "debug print\n".into();
+    judge(f, &child)
 }
 
 #[test]
 fn faults() {
     let f = load("lab/cube-subdivide-1.json");
-    let r = faulted(&f, Run::TimedOut(Duration::from_secs(10)));
+    let r = faulted(
+        &f,
+        CaseEnd::TimedOut {
+            limit: Duration::from_secs(10),
+        },
+    );
     assert_fails_with(&r, "loop_subdivide did not finish within 10 s");
     assert_fails_with(
-        &faulted(&f, Run::StackOverflow),
+        &faulted(&f, CaseEnd::StackOverflow),
         "loop_subdivide overflowed the stack",
     );
     assert_fails_with(
-        &faulted(&f, Run::Signal(11)),
+        &faulted(&f, CaseEnd::Signal { signal: 11 }),
         "loop_subdivide crashed: signal 11 (SIGSEGV: invalid memory access)",
     );
     assert_fails_with(
-        &faulted(&f, Run::Exited(Some(3))),
+        &faulted(&f, CaseEnd::Exited { code: Some(3) }),
         "loop_subdivide ended the program (exit status 3) before returning",
     );
     let r = faulted(
         &f,
-        Run::Done(Outcome::Panicked {
+        CaseEnd::Panicked {
             message: "not yet implemented".into(),
             location: Some("crates/meshedit/src/lib.rs:9:5".into()),
-        }),
+            grew_past: None,
+        },
     );
     assert_fails_with(&r, "loop_subdivide panicked: not yet implemented");
     assert_detail(&r, "at crates/meshedit/src/lib.rs:9:5");
@@ -406,20 +406,30 @@ fn faults() {
         "debug print\n",
         "the student's output is kept"
     );
-    let r = faulted(&f, Run::OutOfMemory(2 << 30));
+    let r = faulted(&f, CaseEnd::OutOfMemory { cap: 2 << 30 });
     assert_fails_with(&r, "loop_subdivide used more than 2 GiB of memory");
     assert_detail(&r, "--memory changes the cap");
-    let r = faulted(&f, Run::Garbled("unknown frame 7".into()));
+    let r = faulted(
+        &f,
+        CaseEnd::Garbled {
+            why: "unknown frame 7".into(),
+        },
+    );
     assert_fails_with(
         &r,
         "loop_subdivide's result could not be read: the grader's channel was written to (unknown frame 7)",
     );
-    let r = faulted(&f, Run::TooLarge(300 << 20));
+    let r = faulted(&f, CaseEnd::TooLarge { bytes: 300 << 20 });
     assert_fails_with(
         &r,
         "loop_subdivide returned a mesh far larger than any right answer (300 MiB of data)",
     );
-    let r = faulted(&f, Run::StuckBeforeCall(Duration::from_secs(20)));
+    let r = faulted(
+        &f,
+        CaseEnd::StuckBeforeCall {
+            limit: Duration::from_secs(20),
+        },
+    );
     assert_fails_with(
         &r,
         "loop_subdivide was never reached: the program was still starting after 20 s",
@@ -681,7 +691,7 @@ fn a_fixture_in_the_wrong_folder_is_named() {
 #[test]
 fn warnings_are_red_only_with_colour_and_the_verdict_is_last() {
     let f = load("lab/cube-subdivide-1.json");
-    let failed = faulted(&f, Run::StackOverflow);
+    let failed = faulted(&f, CaseEnd::StackOverflow);
     let plain = grader::report::text(std::slice::from_ref(&failed), &opts(false));
     assert!(!plain.contains('\u{1b}'), "{plain}");
     assert!(plain.trim_end().ends_with("[warn] test failed"), "{plain}");

@@ -18,6 +18,7 @@ use std::panic::{self, AssertUnwindSafe};
 use halfedge::{EdgeId, Mesh, VertexId};
 use serde::{Deserialize, Serialize};
 
+use crate::isolate::end::CaseEnd;
 use crate::isolate::wire::{self, Answer, Op, Ran, Request, StepAnswer, StepRan, WireStep};
 use crate::Implementation;
 
@@ -89,39 +90,31 @@ pub struct SplitIds {
     pub faces_away: Vec<usize>,
 }
 
-/// Everything the parent needs to judge the case.
+/// A function that returned, as the parent read its result.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "lowercase")]
-pub enum Outcome {
-    /// The student function returned.
-    Finished {
-        returned: Returned,
-        before: Counts,
-        after: Counts,
-        /// The first thing wrong with the result's links or positions.
-        invalid: Option<Problem>,
-        mesh: Option<Box<MeshResult>>,
-        /// Every record, positions to the bit, is as it was sent.
-        #[serde(default)]
-        unchanged: bool,
-    },
-    /// It panicked (a `todo!()` included).
-    Panicked {
-        message: String,
-        location: Option<String>,
-    },
-    /// A sequence: what each step that ran did (the child stops at the
-    /// first step that leaves an invalid mesh, panics or names two vertices
-    /// no edge joins), and the mesh the last one left, read as for one
-    /// operation.
-    Sequence {
-        steps: Vec<StepRan>,
-        panic: Option<(String, Option<String>)>,
-        before: Counts,
-        after: Counts,
-        invalid: Option<Problem>,
-        mesh: Option<Box<MeshResult>>,
-    },
+pub struct Finished {
+    pub returned: Returned,
+    pub before: Counts,
+    pub after: Counts,
+    /// The first thing wrong with the result's links or positions.
+    pub invalid: Option<Problem>,
+    pub mesh: Option<Box<MeshResult>>,
+    /// Every record, positions to the bit, is as it was sent.
+    #[serde(default)]
+    pub unchanged: bool,
+}
+
+/// A sequence: what each step that ran did (the child stops at the first
+/// step that leaves an invalid mesh, panics or names two vertices no edge
+/// joins), and the mesh the last one left, read as for one operation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SequenceRan {
+    pub steps: Vec<StepRan>,
+    pub panic: Option<(String, Option<String>)>,
+    pub before: Counts,
+    pub after: Counts,
+    pub invalid: Option<Problem>,
+    pub mesh: Option<Box<MeshResult>>,
 }
 
 /// The first thing wrong with a result's links or positions, as data
@@ -507,14 +500,24 @@ fn same_records(a: &Mesh, b: &Mesh) -> bool {
         && ah == bh
 }
 
-/// The parent's reading of a finished child: counts, validation, the result
-/// as positions and edges. `input` is the mesh that was sent, `op` the
-/// operation as sent (in the mesh's own ids).
-pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
+/// The parent's reading of what the child sent back, converted into how
+/// the case ended: counts, validation, the result as positions and edges.
+/// `input` is the mesh that was sent, `op` the operation as sent (in the
+/// mesh's own ids).
+pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> CaseEnd {
     let (answer, mesh) = match ran {
         Ran::Panicked {
-            message, location, ..
-        } => return Outcome::Panicked { message, location },
+            message,
+            location,
+            grew_past,
+            ..
+        } => {
+            return CaseEnd::Panicked {
+                message,
+                location,
+                grew_past,
+            }
+        }
         Ran::Returned { answer, mesh, .. } => (answer, mesh),
         Ran::Sequence { steps, mesh, panic } => {
             let checked = guarded(|| {
@@ -530,14 +533,14 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
             });
             let (invalid, result) = checked
                 .unwrap_or_else(|(message, _)| (Some(Problem::Unwalkable { message }), None));
-            return Outcome::Sequence {
+            return CaseEnd::Sequence(Box::new(SequenceRan {
                 steps,
                 panic,
                 before: Counts::of(input),
                 after: Counts::of(&mesh),
                 invalid,
                 mesh: result.map(Box::new),
-            };
+            }));
         }
     };
     let returned = match (answer, op) {
@@ -567,14 +570,14 @@ pub fn analyze(op: Op, input: &Mesh, ran: Ran) -> Outcome {
     });
     let (invalid, result) =
         checked.unwrap_or_else(|(message, _)| (Some(Problem::Unwalkable { message }), None));
-    Outcome::Finished {
+    CaseEnd::Returned(Box::new(Finished {
         returned,
         before: Counts::of(input),
         after: Counts::of(&mesh),
         invalid,
         mesh: result.map(Box::new),
         unchanged,
-    }
+    }))
 }
 
 /// What a split left on the ids it was given (`e` and its faces in the

@@ -26,7 +26,11 @@ use std::thread;
 use std::time::{Duration, Instant};
 
 use crate::isolate::sandbox::{self, Limits};
-use crate::isolate::wire::{self, Frame, Ran};
+use halfedge::Mesh;
+
+use crate::isolate::child;
+use crate::isolate::end::CaseEnd;
+use crate::isolate::wire::{self, Frame, Ran, Recorded, Request};
 
 /// The most of the student's output kept for the report.
 const OUTPUT_CAP: usize = 8 * 1024;
@@ -47,36 +51,11 @@ pub struct ChildProgram {
     pub args: Vec<OsString>,
 }
 
-/// How a case's child process ended.
+/// A finished child, as the runner saw it: how the case ended and what
+/// the student's code printed, with what the reports keep beside them.
 #[derive(Clone, Debug)]
-pub enum Exit {
-    /// It sent its result.
-    Finished(Ran),
-    /// Still running at the time limit, and killed.
-    TimedOut(Duration),
-    /// Never reached the student's function within the setup time (code
-    /// that runs before `main`, or a machine far too slow).
-    StuckBeforeCall(Duration),
-    /// Killed by the stack overflow guard.
-    StackOverflow,
-    /// An allocation failed under the memory cap.
-    OutOfMemory,
-    /// Ended by a signal (abort, segfault...).
-    Signal(i32),
-    /// Exited without sending a result (e.g. `std::process::exit`).
-    Exited(Option<i32>),
-    /// What came back on the result channel is not a result.
-    Garbled(String),
-    /// The result was larger than any answer could be.
-    TooLarge(usize),
-    /// The sandbox could not be set up: the grader's problem, not the student's.
-    SandboxFailed(String),
-}
-
-/// A finished child, as the runner saw it: how it ended and what it printed.
-#[derive(Clone, Debug)]
-pub struct RawReport {
-    pub exit: Exit,
+pub struct ChildReport {
+    pub end: CaseEnd,
     /// What the student's code printed, cut at 8 KiB.
     pub output: String,
     /// The launcher's description of the protections in force.
@@ -84,42 +63,25 @@ pub struct RawReport {
     /// The CPU time of the call, as the child reported it (none when it
     /// did not finish).
     pub cpu: Option<Duration>,
+    /// The mesh the function left, when it came back with one (a return
+    /// or a sequence), as it was sent back.
+    pub mesh: Option<Mesh>,
+    /// A subdivision's recording, when the request asked for one.
+    pub recorded: Option<Recorded>,
 }
 
-/// How a case's run ended, as the judge reads it: the child's result
-/// already analysed in the parent (see [`crate::isolate::child::analyze`]).
-#[derive(Clone, Debug, PartialEq)]
-pub enum Run {
-    Done(crate::isolate::child::Outcome),
-    /// The function panicked because the mesh library's growth budget
-    /// (`limit` elements) stopped it: a fact the child sends, so the
-    /// panic's words are never read.
-    GrewPast {
-        limit: u64,
-        message: String,
-        location: Option<String>,
-    },
-    TimedOut(Duration),
-    StuckBeforeCall(Duration),
-    StackOverflow,
-    /// Over the memory cap (bytes).
-    OutOfMemory(u64),
-    Signal(i32),
-    Exited(Option<i32>),
-    /// The result channel held something that is not a result.
-    Garbled(String),
-    /// The result was this many bytes, far more than any answer.
-    TooLarge(usize),
-    /// Judging the result panicked: the grader's bug.
-    JudgeFailed(String),
-}
-
-/// What the judge needs of a case's run.
-#[derive(Clone, Debug)]
-pub struct ChildReport {
-    pub run: Run,
-    /// What the student's code printed.
-    pub output: String,
+impl ChildReport {
+    /// A report of an end with nothing else to say (no output, no mesh).
+    pub fn bare(end: CaseEnd) -> ChildReport {
+        ChildReport {
+            end,
+            output: String::new(),
+            sandbox: None,
+            cpu: None,
+            mesh: None,
+            recorded: None,
+        }
+    }
 }
 
 enum Event {
@@ -368,28 +330,26 @@ fn drain(mut stream: impl Read + Send + 'static) -> mpsc::Receiver<String> {
     rx
 }
 
-/// Runs one request in a sandboxed child. `Err` only when no process could
+/// Runs one request in a sandboxed child (`record`: ask it to record a
+/// subdivision) and reads what came back. `Err` only when no process could
 /// be started at all.
 pub fn run_child(
     program: &ChildProgram,
     limits: &Limits,
-    request: Vec<u8>,
+    request: &Request,
+    record: bool,
     timeout: Duration,
     max_result: usize,
-) -> std::io::Result<RawReport> {
+) -> std::io::Result<ChildReport> {
     use std::os::unix::process::CommandExt;
     guard_grader();
     let exe = match runnable_program(&program.exe, limits) {
         Ok(exe) => exe,
-        Err(why) => {
-            return Ok(RawReport {
-                exit: Exit::SandboxFailed(why),
-                output: String::new(),
-                sandbox: None,
-                cpu: None,
-            })
-        }
+        Err(why) => return Ok(ChildReport::bare(CaseEnd::SandboxFailed { why })),
     };
+    let input = &request.mesh;
+    let op = request.op;
+    let request = request.encode_asking(record);
     let launcher = std::env::current_exe()?;
     let mut cmd = Command::new(launcher);
     cmd.args(sandbox::launcher_args(limits, &exe, &program.args))
@@ -440,7 +400,7 @@ pub fn run_child(
     let mut started: Option<Instant> = None;
     let mut status: Option<ExitStatus> = None;
     let mut result: Option<Vec<u8>> = None;
-    let mut limit_hit: Option<Exit> = None;
+    let mut limit_hit: Option<CaseEnd> = None;
     loop {
         if status.is_some() && result.is_some() {
             break;
@@ -457,7 +417,7 @@ pub fn run_child(
             Ok(Event::Result(bytes)) => result = Some(bytes),
             Ok(Event::TooLarge(n)) => {
                 kill_group(pid);
-                limit_hit = Some(Exit::TooLarge(n));
+                limit_hit = Some(CaseEnd::TooLarge { bytes: n });
                 result = Some(Vec::new());
             }
             Ok(Event::Exited(s)) => {
@@ -471,8 +431,10 @@ pub fn run_child(
                 kill_group(pid);
                 sweep_unless_contained(&sandbox_status);
                 limit_hit = Some(match started {
-                    Some(_) => Exit::TimedOut(timeout),
-                    None => Exit::StuckBeforeCall(timeout + SETUP_GRACE),
+                    Some(_) => CaseEnd::TimedOut { limit: timeout },
+                    None => CaseEnd::StuckBeforeCall {
+                        limit: timeout + SETUP_GRACE,
+                    },
                 });
             }
         }
@@ -482,28 +444,45 @@ pub fn run_child(
     sweep_unless_contained(&sandbox_status);
     let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
     let cpu = result.as_deref().and_then(wire::reported_cpu_time);
-    let exit = classify(limit_hit, status, result, &output, sandbox_status.is_some());
-    Ok(RawReport {
-        exit,
+    let (mut mesh, mut recorded) = (None, None);
+    let end = match classify(limit_hit, status, result, &output, sandbox_status.is_some()) {
+        Ok(mut ran) => {
+            if let Ran::Returned { mesh: m, .. } | Ran::Sequence { mesh: m, .. } = &ran {
+                mesh = Some(m.clone());
+            }
+            if let Ran::Returned { recorded: r, .. } | Ran::Panicked { recorded: r, .. } = &mut ran
+            {
+                recorded = r.take();
+            }
+            child::analyze(op, input, ran)
+        }
+        Err(CaseEnd::OutOfMemory { .. }) => CaseEnd::OutOfMemory { cap: limits.memory },
+        Err(end) => end,
+    };
+    Ok(ChildReport {
+        end,
         output: strip_notices(&output),
         sandbox: sandbox_status,
         cpu,
+        mesh,
+        recorded,
     })
 }
 
+/// What the child sent, when it sent a result; else how it ended.
 fn classify(
-    limit_hit: Option<Exit>,
+    limit_hit: Option<CaseEnd>,
     status: Option<ExitStatus>,
     result: Option<Vec<u8>>,
     output: &str,
     sandbox_reported: bool,
-) -> Exit {
+) -> Result<Ran, CaseEnd> {
     use std::os::unix::process::ExitStatusExt;
-    if let Some(exit) = limit_hit {
-        return exit;
+    if let Some(end) = limit_hit {
+        return Err(end);
     }
     let Some(status) = status else {
-        return Exit::Exited(None);
+        return Err(CaseEnd::Exited { code: None });
     };
     // Only the launcher, before it reported and exec'd, can fail this way:
     // student code that prints the same line after that is just exiting.
@@ -511,27 +490,34 @@ fn classify(
         && status.code() == Some(sandbox::LAUNCH_FAILED)
         && output.contains("grader sandbox:")
     {
-        return Exit::SandboxFailed(output.trim().to_string());
+        return Err(CaseEnd::SandboxFailed {
+            why: output.trim().to_string(),
+        });
     }
     let frames = result.as_deref().map(wire::decode_frames);
     match frames {
         Some(Ok(frames)) => {
             if let Some(Frame::Result(ran)) = frames.into_iter().last() {
-                return Exit::Finished(ran);
+                return Ok(ran);
             }
         }
-        Some(Err(e)) if status.success() => return Exit::Garbled(e.to_string()),
+        Some(Err(e)) if status.success() => return Err(CaseEnd::Garbled { why: e.to_string() }),
         _ => {}
     }
-    if output.contains("has overflowed its stack") {
-        Exit::StackOverflow
+    // The runtime's own notices: the child's last words, which no fact
+    // on the channel can carry (the process is past sending frames).
+    Err(if output.contains("has overflowed its stack") {
+        CaseEnd::StackOverflow
     } else if output.contains("memory allocation of ") && output.contains(" failed") {
-        Exit::OutOfMemory
+        // The cap is the caller's: filled in by `run_child`.
+        CaseEnd::OutOfMemory { cap: 0 }
     } else if let Some(sig) = status.signal() {
-        Exit::Signal(sig)
+        CaseEnd::Signal { signal: sig }
     } else {
-        Exit::Exited(status.code())
-    }
+        CaseEnd::Exited {
+            code: status.code(),
+        }
+    })
 }
 
 /// Drops the runtime's own notices (stack overflow, failed allocation),

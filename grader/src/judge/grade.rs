@@ -16,8 +16,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use halfedge::{Check, EdgeId, Element, FaceId, VertexId};
 use serde::{Serialize, Serializer};
 
-use crate::isolate::child::{Counts, MeshResult, Outcome, Problem, Returned, SplitIds};
-use crate::isolate::runner::{ChildReport, Run};
+use crate::isolate::child::{
+    Counts, Finished, MeshResult, Problem, Returned, SequenceRan, SplitIds,
+};
+use crate::isolate::runner::ChildReport;
 use crate::isolate::wire::{StepAnswer, StepRan};
 use crate::judge::fixture::{Fixture, Group, Operation, Returns, Stage};
 use crate::judge::matching::{self, VertexMatch};
@@ -96,90 +98,8 @@ impl Named {
     }
 }
 
-/// How a case ended, as the report says it: the one type every renderer
-/// reads. Converted from the runner's and the child's statuses
-/// ([`Run`], [`Outcome`]) by [`CaseEnd::of`].
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "kebab-case")]
-pub enum CaseEnd {
-    /// The function returned (a sequence: every step that ran returned).
-    Returned {
-        returned: Option<Returned>,
-    },
-    /// It panicked; `grew_past` when the mesh library's growth budget
-    /// raised the panic.
-    Panicked {
-        #[serde(skip_serializing_if = "Option::is_none")]
-        grew_past: Option<u64>,
-    },
-    /// Still running at the limit (seconds).
-    TimedOut {
-        limit: f64,
-    },
-    /// The program never reached the function within the limit (seconds).
-    StuckBeforeCall {
-        limit: f64,
-    },
-    StackOverflow,
-    /// Over the memory cap (bytes).
-    OutOfMemory {
-        cap: u64,
-    },
-    Signal {
-        signal: i32,
-    },
-    Exited {
-        code: Option<i32>,
-    },
-    /// The result channel held something that is not a result.
-    Garbled,
-    /// The result was this many bytes, far more than any answer.
-    TooLarge {
-        bytes: usize,
-    },
-    /// Judging the result panicked: the grader's bug.
-    JudgeFailed,
-}
-
-impl CaseEnd {
-    /// The report's reading of a run.
-    pub fn of(run: &Run) -> CaseEnd {
-        match run {
-            Run::Done(Outcome::Finished { returned, .. }) => CaseEnd::Returned {
-                returned: Some(returned.clone()),
-            },
-            Run::Done(Outcome::Sequence { panic: None, .. }) => {
-                CaseEnd::Returned { returned: None }
-            }
-            Run::Done(Outcome::Sequence { panic: Some(_), .. })
-            | Run::Done(Outcome::Panicked { .. }) => CaseEnd::Panicked { grew_past: None },
-            Run::GrewPast { limit, .. } => CaseEnd::Panicked {
-                grew_past: Some(*limit),
-            },
-            Run::TimedOut(d) => CaseEnd::TimedOut {
-                limit: d.as_secs_f64(),
-            },
-            Run::StuckBeforeCall(d) => CaseEnd::StuckBeforeCall {
-                limit: d.as_secs_f64(),
-            },
-            Run::StackOverflow => CaseEnd::StackOverflow,
-            Run::OutOfMemory(cap) => CaseEnd::OutOfMemory { cap: *cap },
-            Run::Signal(signal) => CaseEnd::Signal { signal: *signal },
-            Run::Exited(code) => CaseEnd::Exited { code: *code },
-            Run::Garbled(_) => CaseEnd::Garbled,
-            Run::TooLarge(bytes) => CaseEnd::TooLarge { bytes: *bytes },
-            Run::JudgeFailed(_) => CaseEnd::JudgeFailed,
-        }
-    }
-
-    /// The case ran out of time, or never reached the call.
-    pub fn timed_out(&self) -> bool {
-        matches!(
-            self,
-            CaseEnd::TimedOut { .. } | CaseEnd::StuckBeforeCall { .. }
-        )
-    }
-}
+/// How a case ended: the runner's, read here and by every renderer.
+pub use crate::isolate::end::CaseEnd;
 
 /// The judge's comparison of the student's mesh with the expected one.
 /// "Yours" are ids of the mesh the function left (the labelling's
@@ -592,11 +512,21 @@ fn activity(stage: Stage) -> &'static str {
 
 /// Judges a case from its child's report.
 pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
+    judge_end(f, &child.end, &child.output, None)
+}
+
+/// The report of a case whose judging panicked (`message`: the panic's):
+/// the grader's bug, said as such.
+pub fn judge_failed(f: &Fixture, message: &str, output: &str) -> CaseReport {
+    judge_end(f, &CaseEnd::JudgeFailed, output, Some(message))
+}
+
+fn judge_end(f: &Fixture, end: &CaseEnd, output: &str, failed: Option<&str>) -> CaseReport {
     let stage = f.operation.stage();
     let mut log = Log::new();
     let what = subject(f);
     say!(log, Info, "start testing {} for {what}", activity(stage));
-    judge_run(f, &child.run, &mut log);
+    judge_run(f, end, failed, &mut log);
     say!(log, Info, "end testing {} for {what}", activity(stage));
     CaseReport {
         name: f.name.clone(),
@@ -605,13 +535,13 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
         stage,
         passed: log.passed,
         entries: log.entries,
-        output: Quoted::new(child.output.clone()),
-        timed_out: CaseEnd::of(&child.run).timed_out(),
+        output: Quoted::new(output.to_string()),
+        timed_out: end.timed_out(),
         input: None,
         result: None,
         hint: log.hint,
         hint_id: log.hint_id,
-        end: CaseEnd::of(&child.run),
+        end: end.clone(),
         comparison: log.comparison,
         invalid: log.invalid,
         labelling: None,
@@ -620,11 +550,11 @@ pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
     }
 }
 
-fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
+fn judge_run(f: &Fixture, end: &CaseEnd, failed: Option<&str>, log: &mut Log) {
     let function = f.operation.stage().function();
     let must_panic = f.expected.returns == Some(Returns::Panic);
-    match run {
-        Run::TimedOut(limit) => {
+    match end {
+        CaseEnd::TimedOut { limit } => {
             say!(
                 log,
                 Warn,
@@ -633,7 +563,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             say!(log, Detail, "an endless loop? a walk around a face or vertex that never gets back to its start?");
         }
-        Run::StuckBeforeCall(limit) => {
+        CaseEnd::StuckBeforeCall { limit } => {
             say!(
                 log,
                 Warn,
@@ -646,11 +576,11 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 "does your crate run code before main (a static initialiser) that never ends?"
             );
         }
-        Run::StackOverflow => {
+        CaseEnd::StackOverflow => {
             say!(log, Warn, "{function} overflowed the stack");
             say!(log, Detail, "a function that calls itself without end?");
         }
-        Run::OutOfMemory(cap) => {
+        CaseEnd::OutOfMemory { cap } => {
             say!(
                 log,
                 Warn,
@@ -659,10 +589,10 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             say!(log, Detail, "a loop that never stops adding elements or growing a Vec? (--memory changes the cap)");
         }
-        Run::Signal(sig) => {
+        CaseEnd::Signal { signal: sig } => {
             say!(log, Warn, "{function} crashed: {}", signal_name(*sig));
         }
-        Run::Exited(code) => {
+        CaseEnd::Exited { code } => {
             let code = code.map_or("unknown".to_string(), |c| c.to_string());
             say!(
                 log,
@@ -671,7 +601,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             say!(log, Detail, "does your code call std::process::exit?");
         }
-        Run::Garbled(why) => {
+        CaseEnd::Garbled { why } => {
             say!(
                 log,
                 Warn,
@@ -683,7 +613,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 "does your code write to file descriptors it did not open?"
             );
         }
-        Run::TooLarge(bytes) => {
+        CaseEnd::TooLarge { bytes } => {
             say!(
                 log,
                 Warn,
@@ -692,17 +622,24 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
             );
             hint!(log, f, Hint::Grader(GraderHint::RunawayResult));
         }
-        Run::JudgeFailed(message) => {
+        // A sandbox that failed stops grading before any judging (`lib.rs`):
+        // here only for completeness, said as the grader's problem.
+        CaseEnd::JudgeFailed | CaseEnd::SandboxFailed { .. } => {
+            let why = match end {
+                CaseEnd::SandboxFailed { why } => why.as_str(),
+                _ => failed.unwrap_or_default(),
+            };
             quote!(
                 log,
                 Warn,
-                message.as_str(),
+                why,
                 "the grader could not judge this result: tell a TA, with your code; the grader's message:"
             );
         }
-        Run::Done(Outcome::Panicked { message, location })
-        | Run::GrewPast {
-            message, location, ..
+        CaseEnd::Panicked {
+            message,
+            location,
+            grew_past,
         } if must_panic => {
             if is_stub(message) {
                 quote!(log, Warn, message.as_str(), "{function} panicked:");
@@ -711,7 +648,7 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                     Detail,
                     "the function is still a todo!() stub: write it in crates/meshedit/src/lib.rs"
                 );
-            } else if !matches!(run, Run::GrewPast { .. }) && names_a_non_triangle(message) {
+            } else if grew_past.is_none() && names_a_non_triangle(message) {
                 quote!(
                     log,
                     Info,
@@ -731,15 +668,16 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 say!(log, Detail, "check first: mesh.first_non_triangle() finds such a face; name it in the panic message");
             }
         }
-        Run::Done(Outcome::Panicked { message, location })
-        | Run::GrewPast {
-            message, location, ..
+        CaseEnd::Panicked {
+            message,
+            location,
+            grew_past,
         } => {
             quote!(log, Warn, message.as_str(), "{function} panicked:");
             if let Some(loc) = location {
                 quote!(log, Detail, loc.as_str(), "at");
             }
-            if matches!(run, Run::GrewPast { .. }) {
+            if grew_past.is_some() {
                 hint!(log, f, Hint::Grader(GraderHint::GrewPast));
             } else if is_stub(message) {
                 say!(
@@ -749,41 +687,47 @@ fn judge_run(f: &Fixture, run: &Run, log: &mut Log) {
                 );
             }
         }
-        Run::Done(Outcome::Finished { .. }) if must_panic => {
+        CaseEnd::Returned(_) if must_panic => {
             say!(log, Warn, "{function} returned, but the mesh has a face that is not a triangle: it must panic with a message that says so");
         }
-        Run::Done(Outcome::Sequence {
-            steps,
-            panic,
-            before,
-            after,
-            invalid,
-            mesh,
-        }) => judge_sequence(
-            f,
-            steps,
-            panic.as_ref(),
-            (*before, *after),
-            invalid.as_ref(),
-            mesh.as_deref(),
-            log,
-        ),
-        Run::Done(Outcome::Finished {
-            returned,
-            before,
-            after,
-            invalid,
-            mesh,
-            unchanged,
-        }) => judge_finished(
-            f,
-            returned,
-            (*before, *after),
-            *unchanged,
-            invalid.as_ref(),
-            mesh.as_deref(),
-            log,
-        ),
+        CaseEnd::Sequence(seq) => {
+            let SequenceRan {
+                steps,
+                panic,
+                before,
+                after,
+                invalid,
+                mesh,
+            } = seq.as_ref();
+            judge_sequence(
+                f,
+                steps,
+                panic.as_ref(),
+                (*before, *after),
+                invalid.as_ref(),
+                mesh.as_deref(),
+                log,
+            )
+        }
+        CaseEnd::Returned(finished) => {
+            let Finished {
+                returned,
+                before,
+                after,
+                invalid,
+                mesh,
+                unchanged,
+            } = finished.as_ref();
+            judge_finished(
+                f,
+                returned,
+                (*before, *after),
+                *unchanged,
+                invalid.as_ref(),
+                mesh.as_deref(),
+                log,
+            )
+        }
     }
 }
 

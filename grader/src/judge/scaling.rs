@@ -25,9 +25,10 @@ use std::time::Duration;
 use halfedge::Mesh;
 use serde::Serialize;
 
-use crate::isolate::runner::{self, ChildProgram, Exit};
+use crate::isolate::end::CaseEnd;
+use crate::isolate::runner::{self, ChildProgram};
 use crate::isolate::sandbox::Limits;
-use crate::isolate::wire::{self, Ran};
+use crate::isolate::wire;
 
 /// The icosphere levels timed: 80 and 1280 faces, one round making 320
 /// and 5120. Small enough that a linear debug build takes a few
@@ -181,22 +182,19 @@ fn time_once(program: &ChildProgram, limits: &Limits, mesh: &Mesh, limit: Durati
         budget: budget as u64,
         mesh: mesh.clone(),
     };
-    let Ok(raw) = runner::run_child(
+    let Ok(report) = runner::run_child(
         program,
         limits,
-        request.encode(),
+        &request,
+        false,
         limit,
         budget * 64 + (1 << 20),
     ) else {
         return Run::Failed;
     };
-    match (raw.exit, raw.cpu) {
-        (Exit::Finished(Ran::Returned { mesh: got, .. }), Some(cpu))
-            if got.num_faces() == 4 * f =>
-        {
-            Run::Took(cpu)
-        }
-        (Exit::TimedOut(_), _) => Run::TimedOut,
+    match (&report.end, report.cpu) {
+        (CaseEnd::Returned(r), Some(cpu)) if r.after.faces == 4 * f => Run::Took(cpu),
+        (CaseEnd::TimedOut { .. }, _) => Run::TimedOut,
         _ => Run::Failed,
     }
 }
