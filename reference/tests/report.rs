@@ -650,6 +650,198 @@ fn the_inspector_walks_a_wrong_flip_by_click_and_keys() {
     assert!(seen["note"].is_null(), "{seen}");
 }
 
+/// `reference grade --implementation NAME --format json --bonus --report
+/// DIR ARGS`: the JSON report, parsed.
+fn grade_json(implementation: &str, args: &[&str], report: &Path) -> Value {
+    let mut all = vec![
+        "--implementation",
+        implementation,
+        "--format",
+        "json",
+        "--bonus",
+    ];
+    all.extend_from_slice(args);
+    let (code, stdout) = grade(&all, report);
+    assert!(code == 0 || code == 1, "{implementation}: exit {code}");
+    serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{implementation}: {e}\n{stdout}"))
+}
+
+/// Every case's inspector data on the page, by case name.
+fn all_case_data(report: &Path) -> std::collections::BTreeMap<String, Value> {
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    let tag = "<script type=\"application/json\" class=\"inspector-data\">";
+    html.split(tag)
+        .skip(1)
+        .map(|chunk| {
+            let json = &chunk[..chunk.find("</script>").expect("the data ends")];
+            let v: Value = serde_json::from_str(json).expect("the data is JSON");
+            (v["name"].as_str().unwrap().to_string(), v)
+        })
+        .collect()
+}
+
+type Ids = std::collections::BTreeSet<u64>;
+type Pairs = std::collections::BTreeSet<[u64; 2]>;
+
+/// A list of ids (`[3, 7]`) as a set.
+fn id_set(list: &Value) -> Ids {
+    list.as_array()
+        .map(|l| l.iter().map(|x| x.as_u64().unwrap()).collect())
+        .unwrap_or_default()
+}
+
+/// Edges as unordered pairs: from the page's flat list (`[a, b, c, d]`)
+/// or from the comparison's list of pairs (`[[a, b], [c, d]]`, null when
+/// the edges were not compared).
+fn pair_set(list: &Value) -> Pairs {
+    let Some(l) = list.as_array() else {
+        return Pairs::new();
+    };
+    let flat: Vec<u64> = l
+        .iter()
+        .flat_map(|x| match x.as_array() {
+            Some(p) => p.iter().map(|y| y.as_u64().unwrap()).collect(),
+            None => vec![x.as_u64().unwrap()],
+        })
+        .collect();
+    flat.chunks(2)
+        .map(|c| [c[0].min(c[1]), c[0].max(c[1])])
+        .collect()
+}
+
+/// The page's red marks of a case against the judge's comparison in the
+/// JSON report: yours red where the judge found your vertex or edge
+/// extra, the expected result red where it found one missing, nothing
+/// red where the judge compared nothing.
+fn marks_match_comparison(case: &Value, data: &Value) -> Result<(), String> {
+    let marks = &data["marks"];
+    let c = &case["comparison"];
+    let seen = (
+        id_set(&marks["yours"]["v"]),
+        id_set(&marks["expected"]["v"]),
+        pair_set(&marks["yours"]["e"]),
+        pair_set(&marks["expected"]["e"]),
+    );
+    let judged = (
+        id_set(&c["extra_vertices"]),
+        id_set(&c["missing_vertices"]),
+        pair_set(&c["extra_edges"]),
+        pair_set(&c["missing_edges"]),
+    );
+    if seen == judged {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: the page marks (extra v, missing v, extra e, missing e) {seen:?}, the judge found {judged:?}",
+            case["name"]
+        ))
+    }
+}
+
+#[test]
+fn the_pages_marks_are_the_judges_comparison_for_every_failing_case() {
+    // Vertices wrong (one round and two), edges wrong, counts wrong, a
+    // broken mesh, a failure seen only on a relabelled input.
+    let mut checked = 0;
+    let mut compared = 0;
+    for (imp, stage) in [
+        ("loop-weights", "subdivide"),
+        ("no-flip", "subdivide"),
+        ("flip-halves", "subdivide"),
+        ("split-not-midpoint", "split"),
+        ("split-not-midpoint", "sequence"),
+        ("flip-face-labels", "flip"),
+        ("flip-wrong-return", "flip"),
+        ("split-stale-b", "split"),
+    ] {
+        let dir = scratch(&format!("marks-{imp}-{stage}"));
+        let json = grade_json(imp, &["--stage", stage], &dir);
+        let pages = all_case_data(&dir);
+        let failed: Vec<&Value> = json["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["passed"] == false)
+            .collect();
+        assert!(!failed.is_empty(), "{imp} fails somewhere");
+        for case in failed {
+            let name = case["name"].as_str().unwrap();
+            let data = pages
+                .get(name)
+                .unwrap_or_else(|| panic!("{imp}: no inspector data for {name}"));
+            if let Err(e) = marks_match_comparison(case, data) {
+                panic!("{imp}: {e}");
+            }
+            checked += 1;
+            compared += usize::from(!case["comparison"].is_null());
+        }
+    }
+    assert!(
+        compared >= 10 && checked > compared,
+        "cases with and without a comparison: {compared} of {checked}"
+    );
+}
+
+/// The section of case `name` in the page, as HTML text.
+fn case_section(report: &Path, name: &str) -> String {
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    let start = html
+        .find(&format!("data-case=\"{name}\""))
+        .unwrap_or_else(|| panic!("no section for {name}"));
+    let end = html[start..]
+        .find("</section>")
+        .map_or(html.len(), |e| start + e);
+    html[start..end].to_string()
+}
+
+#[test]
+fn pictures_that_disagreed_with_the_verdict_now_mark_what_it_says() {
+    // Halves of old edges flipped too: the result is not a valid mesh, so
+    // the judge compared nothing; the page's own matcher drew 21 extra and
+    // 30 missing edges on it. Now only the element validate() names.
+    let dir = scratch("disagreed-invalid");
+    let json = grade_json("flip-halves", &["--case", "cube-subdivide-1"], &dir);
+    let case = &json["cases"][0];
+    assert_eq!(case["passed"], false);
+    assert!(case["comparison"].is_null(), "{case:#}");
+    let bad = &case["invalid"]["element"]["element"];
+    let data = case_data(&dir, "cube-subdivide-1");
+    marks_match_comparison(case, &data).unwrap();
+    assert_eq!(
+        data["marks"]["yours"]["named"][0],
+        serde_json::json!([&bad["kind"].as_str().unwrap()[..1], bad["id"]]),
+        "the element validate() names is marked first: {}",
+        data["marks"]
+    );
+    assert_eq!(data["error"]["el"], format!("h{}", bad["id"]));
+    let section = case_section(&dir, "cube-subdivide-1");
+    assert!(
+        section.contains("nothing is marked: the grader did not compare your mesh"),
+        "the card says why nothing is red"
+    );
+    assert!(
+        !section.contains("class=\"wrong"),
+        "no red in the static pictures"
+    );
+
+    // No flip, two rounds: the vertices are wrong, so the judge never
+    // compared edges; the page's matcher paired the leftovers and drew
+    // edges the verdict never named. Now the vertices only.
+    let dir = scratch("disagreed-vertices");
+    let json = grade_json("no-flip", &["--case", "cube-subdivide-2"], &dir);
+    let case = &json["cases"][0];
+    let c = &case["comparison"];
+    assert!(c["missing_edges"].is_null(), "{c:#}");
+    assert!(!c["missing_vertices"].as_array().unwrap().is_empty());
+    let data = case_data(&dir, "cube-subdivide-2");
+    marks_match_comparison(case, &data).unwrap();
+    assert_eq!(data["marks"]["yours"]["e"], serde_json::json!([]));
+    assert_eq!(data["marks"]["expected"]["e"], serde_json::json!([]));
+    let section = case_section(&dir, "cube-subdivide-2");
+    assert!(section.contains("the edges were not compared: the vertices were wrong first"));
+    assert!(!section.contains("missing-edge"), "no missing edge drawn");
+}
+
 /// The grader's judgement of a split's result, as the child's report would
 /// give it: the first `validate()` problem.
 fn invalid_report(
