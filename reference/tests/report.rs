@@ -816,7 +816,7 @@ fn pictures_that_disagreed_with_the_verdict_now_mark_what_it_says() {
     assert_eq!(data["error"]["el"], format!("h{}", bad["id"]));
     let section = case_section(&dir, "cube-subdivide-1");
     assert!(
-        section.contains("nothing is marked: the grader did not compare your mesh"),
+        section.contains("nothing is red: your mesh is not valid, so the grader compared none"),
         "the card says why nothing is red"
     );
     assert!(
@@ -1103,6 +1103,172 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
     assert_eq!(s[2]["shown"], false);
     assert_eq!(s[1]["note"], "the first broken frame is 8");
     assert_eq!(s[3]["vertices"], 98, "the end state");
+}
+
+/// The halfedge the `h` key goes to from element `el` (`v3`, `e5`,
+/// `f2`, or a halfedge, which stays) in a mesh of the inspector's data.
+fn halfedge_of(mesh: &Value, el: &str) -> u64 {
+    let id: usize = el[1..].parse().unwrap();
+    let list = match &el[..1] {
+        "v" => "vh",
+        "e" => "eh",
+        "f" => "fh",
+        _ => return id as u64,
+    };
+    mesh[list][id].as_u64().unwrap()
+}
+
+#[test]
+fn a_split_failing_only_on_a_relabelled_input_is_inspected_in_both_numberings() {
+    if !have_chromium() {
+        return;
+    }
+    // Graded for real: this mistake passes on the cone as built from its
+    // faces and fails on a relabelled copy.
+    let dir = scratch("inspect-relabelled-graded");
+    let json = grade_json("split-stale-b", &["--case", "cone-split"], &dir);
+    let case = &json["cases"][0];
+    assert_eq!(case["passed"], false);
+    assert!(
+        !case["labelling"].is_null(),
+        "failed only relabelled: {case:#}"
+    );
+    // The first element the messages name, in both numberings.
+    let named = case["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["level"] != "info")
+        .flat_map(|e| e["elements"].as_array().unwrap())
+        .next()
+        .expect("a message names an element")
+        .clone();
+    let short = |e: &Value| format!("{}{}", &e["kind"].as_str().unwrap()[..1], e["id"]);
+    let (in_case, as_sent) = (short(&named["element"]), short(&named["labelled"]));
+    assert_ne!(in_case, as_sent, "the labelling renamed it: {named}");
+    let data = case_data(&dir, "cone-split");
+    let yours = &data["yours"];
+    let seen = inspect(
+        &dir,
+        "cone-split",
+        serde_json::json!([
+            ["clickError"],
+            ["key", "h"],
+            ["key", "n"],
+            ["key", "t"],
+            ["turn", 2.5, 0.6],
+            ["selectError"]
+        ]),
+        "inspector-relabelled-graded.png",
+    );
+    let s = seen["steps"].as_array().unwrap();
+    // The panel shows the element as sent, and its case id.
+    assert_eq!(seen["error"]["el"], as_sent.as_str(), "{seen}");
+    assert_eq!(sel(&s[0]), as_sent, "{}", s[0]);
+    assert_eq!(
+        s[0]["lines"]["in the case's numbering"],
+        in_case.as_str(),
+        "{}",
+        s[0]
+    );
+    // h, n, t walk the mesh the student's function left.
+    let h = halfedge_of(yours, &as_sent);
+    assert_eq!(sel(&s[1]), format!("h{h}"), "{}", s[1]);
+    let next = link(yours, h, 1);
+    assert_eq!(sel(&s[2]), format!("h{next}"), "{}", s[2]);
+    assert_eq!(s[2]["lines"]["next"], format!("h{}", link(yours, next, 1)));
+    let twin = link(yours, next, 0);
+    assert_eq!(sel(&s[3]), format!("h{twin}"), "{}", s[3]);
+    // Each halfedge has its case id too.
+    let case_h = data["caseIds"]["h"][twin as usize].as_i64().unwrap();
+    if case_h >= 0 {
+        assert_eq!(
+            s[3]["lines"]["in the case's numbering"],
+            format!("h{case_h}"),
+            "{}",
+            s[3]
+        );
+    }
+    // Select error comes back to it, and turns the view.
+    assert_eq!(sel(&s[5]), as_sent);
+    assert_ne!(s[5]["cam"], s[4]["cam"], "the view turned back");
+    // Where the judge matched nothing (the mesh is invalid), the expected
+    // result's old vertices are labelled with the input's ids as sent.
+    let iid = data["expected"]["iid"].as_array().unwrap();
+    let input_vertices = data["input"]["p"].as_array().unwrap().len() / 3;
+    for (i, sent) in iid.iter().enumerate() {
+        let sent = sent.as_i64().unwrap();
+        if i < input_vertices {
+            let case = data["caseIds"]["v"][sent as usize].as_i64().unwrap();
+            assert_eq!(
+                case, i as i64,
+                "expected v{i} is the case's v{i}, sent as v{sent}"
+            );
+        } else {
+            assert_eq!(sent, -1, "a new vertex has no input id");
+        }
+    }
+    // The card says why the ids differ from its title's.
+    let note = seen["note"].as_str().unwrap_or("");
+    assert!(note.contains("relabelled copy"), "{seen}");
+}
+
+#[test]
+fn a_real_two_round_subdivision_is_stepped_through_to_its_first_broken_frame() {
+    if !have_chromium() {
+        return;
+    }
+    // Graded for real with --report: the child recorded the student's
+    // loop_subdivide, whose split_edge leaves b's halfedge stale.
+    let dir = scratch("inspect-recorded");
+    let json = grade_json("split-stale-vertex", &["--case", "cube-subdivide-2"], &dir);
+    let case = &json["cases"][0];
+    assert_eq!(case["passed"], false);
+    let recorded = &case["frames"];
+    let labels = recorded["labels"].as_array().expect("frames were recorded");
+    let k = recorded["first_broken"].as_u64().expect("a broken frame") as usize;
+    let data = case_data(&dir, "cube-subdivide-2");
+    let list = data["frames"]["list"].as_array().unwrap();
+    let count = list.len();
+    assert_eq!(count, labels.len(), "every frame on the page");
+    assert_eq!(data["frames"]["firstBroken"], k as u64);
+    assert!(k >= 1 && k + 1 < count, "{k} of {count}");
+    let vertices = |i: usize| list[i]["mesh"]["p"].as_array().unwrap().len() as u64 / 3;
+    let seen = inspect(
+        &dir,
+        "cube-subdivide-2",
+        serde_json::json!([
+            ["frame", 0],
+            ["frame", k],
+            ["frame", k - 1],
+            ["frame", count - 1]
+        ]),
+        "inspector-recorded.png",
+    );
+    let s = seen["steps"].as_array().unwrap();
+    let text = |i: usize| {
+        format!(
+            "frame {} of {count}: {}",
+            i + 1,
+            labels[i].as_str().unwrap()
+        )
+    };
+    assert_eq!(s[0]["max"], (count - 1) as u64);
+    assert_eq!(s[0]["text"], text(0), "{}", s[0]);
+    assert_eq!(s[0]["shown"], false);
+    assert_eq!(s[0]["vertices"], 8, "the cube before the first split");
+    assert_eq!(s[1]["text"], text(k), "{}", s[1]);
+    assert_eq!(s[1]["shown"], true, "{}", s[1]);
+    assert_eq!(s[1]["broken"], "first broken frame");
+    assert_eq!(s[1]["note"], format!("the first broken frame is {}", k + 1));
+    assert_eq!(s[1]["vertices"], vertices(k));
+    assert_eq!(s[1]["vertices"], 8 + k as u64, "one vertex per split made");
+    assert_eq!(s[2]["shown"], false, "{}", s[2]);
+    assert_eq!(s[2]["vertices"], vertices(k - 1));
+    assert_eq!(s[3]["text"], text(count - 1));
+    let end = data["yours"]["p"].as_array().unwrap().len() as u64 / 3;
+    assert_eq!(s[3]["vertices"], end, "the end state is the result");
+    assert_eq!(labels[count - 1], "after loop_subdivide");
 }
 
 /// A failed report for `result`, with one message.

@@ -152,8 +152,15 @@ pub(super) fn mesh_json(out: &mut String, mesh: &Mesh) {
 
 /// A mesh known only by positions and faces (the expected result): `p`,
 /// `fv` (each face as its length then its corners), `le` (edges no face
-/// has), `sid` (the student's vertex standing for each, or -1).
-pub(super) fn shape_json(out: &mut String, shape: &Shape, student_of: &[Option<usize>]) {
+/// has), `sid` (the student's vertex standing for each, or -1), `iid`
+/// (the input vertex, as sent, each old vertex is, or -1: the labels
+/// where the judge matched nothing).
+pub(super) fn shape_json(
+    out: &mut String,
+    shape: &Shape,
+    student_of: &[Option<usize>],
+    input_of: &[Option<usize>],
+) {
     out.push_str("{\"p\":");
     list(
         out,
@@ -192,6 +199,17 @@ pub(super) fn shape_json(out: &mut String, shape: &Shape, student_of: &[Option<u
     list(
         out,
         (0..shape.len()).map(|i| student_of.get(i).copied().flatten()),
+        |o, s| match s {
+            Some(s) => {
+                let _ = write!(o, "{s}");
+            }
+            None => o.push_str("-1"),
+        },
+    );
+    out.push_str(",\"iid\":");
+    list(
+        out,
+        (0..shape.len()).map(|i| input_of.get(i).copied().flatten()),
         |o, s| match s {
             Some(s) => {
                 let _ = write!(o, "{s}");

@@ -209,6 +209,9 @@ pub(super) struct CasePictures {
     pub(super) case_of: Vec<Option<usize>>,
     /// Expected vertex -> the student's vertex matched or paired with it.
     pub(super) student_of_expected: Vec<Option<usize>>,
+    /// Expected vertex -> the input vertex (as sent) it is: the reference
+    /// keeps the input's ids and appends new vertices.
+    pub(super) input_of_expected: Vec<Option<usize>>,
     /// The case's edge in the input as sent.
     pub(super) case_edge: Option<[usize; 2]>,
     /// The expected result's new vertex (a split's), expected numbering.
@@ -419,10 +422,13 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             );
         }
     } else if yours.is_some() && !r.passed {
-        notes.push(
-            "nothing is marked: the grader did not compare your mesh with the expected one (see the messages)"
-                .to_string(),
-        );
+        notes.push(if r.invalid.is_some() {
+            "nothing is red: your mesh is not valid, so the grader compared none of its positions or edges; purple is what the messages name"
+                .to_string()
+        } else {
+            "nothing is red: the grader did not compare your mesh with the expected one (see the messages)"
+                .to_string()
+        });
     }
 
     // Where to look from: at the case's edge, else at the first problem,
@@ -504,6 +510,9 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     })
     .collect();
     let student_of_expected = (0..expected.len()).map(student_of).collect();
+    let input_of_expected = (0..expected.len())
+        .map(|i| if i < n_in { id(i) } else { None })
+        .collect();
     CasePictures {
         input,
         expected,
@@ -515,6 +524,7 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         notes,
         case_of,
         student_of_expected,
+        input_of_expected,
         case_edge,
         new_vertex,
     }

@@ -212,7 +212,12 @@ fn case_data(
     if r.passed {
         out.push_str("null");
     } else {
-        inspector::shape_json(&mut out, &pics.expected, &pics.student_of_expected);
+        inspector::shape_json(
+            &mut out,
+            &pics.expected,
+            &pics.student_of_expected,
+            &pics.input_of_expected,
+        );
     }
     out.push_str(",\"yours\":");
     match &r.result {
