@@ -194,7 +194,26 @@
     if (data.yours) { I.models.yours = new Model(data.yours, true); }
     I.frames = data.frames && data.frames.list && data.frames.list.length ? data.frames : null;
     if (I.frames) {
-      I.frameModels = I.frames.list.map(function (fr) { return new Model(fr.mesh || {}, true); });
+      // The first frame is whole, each later one what changed since the
+      // one before (new length, then index, value pairs, per array).
+      var prev = {};
+      I.frameModels = I.frames.list.map(function (fr) {
+        var mesh = fr.mesh || {};
+        if (!fr.mesh && fr.delta) {
+          mesh = {};
+          Object.keys(prev).forEach(function (k) { mesh[k] = prev[k]; });
+          Object.keys(fr.delta).forEach(function (k) {
+            var d = fr.delta[k];
+            if (!Array.isArray(d) || !d.length) { delete mesh[k]; return; }
+            var arr = (prev[k] || []).slice(0, d[0]);
+            for (var i = 1; i + 1 < d.length; i += 2) { if (isId(d[i], d[0])) { arr[d[i]] = d[i + 1]; } }
+            for (var j = 0; j < d[0]; j++) { if (arr[j] === undefined) { arr[j] = null; } }
+            mesh[k] = arr;
+          });
+        }
+        prev = mesh;
+        return new Model(mesh, true);
+      });
       I.frame = I.frameModels.length - 1;
       I.models.yours = I.frameModels[I.frame];
     }
