@@ -824,6 +824,18 @@ fn pictures_that_disagreed_with_the_verdict_now_mark_what_it_says() {
         !section.contains("class=\"wrong"),
         "no red in the static pictures"
     );
+    // The hint line is styled as one by its data: with every message
+    // reworded, it still is.
+    let dir = scratch("disagreed-reworded");
+    grade_json(
+        "flip-halves",
+        &["--case", "cube-subdivide-1", "--reword-messages"],
+        &dir,
+    );
+    let reworded = case_section(&dir, "cube-subdivide-1");
+    let hints = |html: &str| html.matches("<li class=\"detail hint\">").count();
+    assert!(hints(&section) >= 1, "a hint line");
+    assert_eq!(hints(&reworded), hints(&section));
 
     // No flip, two rounds: the vertices are wrong, so the judge never
     // compared edges; the page's matcher paired the leftovers and drew

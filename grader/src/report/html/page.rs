@@ -379,7 +379,8 @@ pub(super) fn case_html(
         let class = match e.level {
             Level::Info => "info",
             Level::Warn => "warn",
-            Level::Detail if e.text.starts_with("hint:") => "detail hint",
+            // A hint line by its data (`Entry::hint`), not its words.
+            Level::Detail if e.hint.is_some() => "detail hint",
             Level::Detail => "detail",
         };
         let below = e.quote_below("");
