@@ -484,7 +484,8 @@ document.getElementById('f').onload = function () {
         sl.dispatchEvent(new win.Event('input', { bubbles: true }));
         var br = root.querySelector('.frame-broken');
         r = { text: root.querySelector('.frame-text').textContent, broken: br.textContent, shown: br.style.display !== 'none', max: +sl.max,
-              note: (root.querySelector('.frame-note') || {}).textContent || null, vertices: insp.models.yours.nv };
+              note: (root.querySelector('.frame-note') || {}).textContent || null, vertices: insp.models.yours.nv,
+              links: Array.prototype.slice.call(insp.models.yours.hr), heads: Array.prototype.slice.call(insp.models.yours.vh) };
       }
       res.steps.push(r);
     });
@@ -648,6 +649,210 @@ fn the_inspector_walks_a_wrong_flip_by_click_and_keys() {
         "with script, the static pictures stay in their noscript"
     );
     assert!(seen["note"].is_null(), "{seen}");
+}
+
+/// `reference grade --implementation NAME --format json --bonus --report
+/// DIR ARGS`: the JSON report, parsed.
+fn grade_json(implementation: &str, args: &[&str], report: &Path) -> Value {
+    let mut all = vec![
+        "--implementation",
+        implementation,
+        "--format",
+        "json",
+        "--bonus",
+    ];
+    all.extend_from_slice(args);
+    let (code, stdout) = grade(&all, report);
+    assert!(code == 0 || code == 1, "{implementation}: exit {code}");
+    serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{implementation}: {e}\n{stdout}"))
+}
+
+/// Every case's inspector data on the page, by case name.
+fn all_case_data(report: &Path) -> std::collections::BTreeMap<String, Value> {
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    let tag = "<script type=\"application/json\" class=\"inspector-data\">";
+    html.split(tag)
+        .skip(1)
+        .map(|chunk| {
+            let json = &chunk[..chunk.find("</script>").expect("the data ends")];
+            let v: Value = serde_json::from_str(json).expect("the data is JSON");
+            (v["name"].as_str().unwrap().to_string(), v)
+        })
+        .collect()
+}
+
+type Ids = std::collections::BTreeSet<u64>;
+type Pairs = std::collections::BTreeSet<[u64; 2]>;
+
+/// A list of ids (`[3, 7]`) as a set.
+fn id_set(list: &Value) -> Ids {
+    list.as_array()
+        .map(|l| l.iter().map(|x| x.as_u64().unwrap()).collect())
+        .unwrap_or_default()
+}
+
+/// Edges as unordered pairs: from the page's flat list (`[a, b, c, d]`)
+/// or from the comparison's list of pairs (`[[a, b], [c, d]]`, null when
+/// the edges were not compared).
+fn pair_set(list: &Value) -> Pairs {
+    let Some(l) = list.as_array() else {
+        return Pairs::new();
+    };
+    let flat: Vec<u64> = l
+        .iter()
+        .flat_map(|x| match x.as_array() {
+            Some(p) => p.iter().map(|y| y.as_u64().unwrap()).collect(),
+            None => vec![x.as_u64().unwrap()],
+        })
+        .collect();
+    flat.chunks(2)
+        .map(|c| [c[0].min(c[1]), c[0].max(c[1])])
+        .collect()
+}
+
+/// The page's red marks of a case against the judge's comparison in the
+/// JSON report: yours red where the judge found your vertex or edge
+/// extra, the expected result red where it found one missing, nothing
+/// red where the judge compared nothing.
+fn marks_match_comparison(case: &Value, data: &Value) -> Result<(), String> {
+    let marks = &data["marks"];
+    let c = &case["comparison"];
+    let seen = (
+        id_set(&marks["yours"]["v"]),
+        id_set(&marks["expected"]["v"]),
+        pair_set(&marks["yours"]["e"]),
+        pair_set(&marks["expected"]["e"]),
+    );
+    let judged = (
+        id_set(&c["extra_vertices"]),
+        id_set(&c["missing_vertices"]),
+        pair_set(&c["extra_edges"]),
+        pair_set(&c["missing_edges"]),
+    );
+    if seen == judged {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: the page marks (extra v, missing v, extra e, missing e) {seen:?}, the judge found {judged:?}",
+            case["name"]
+        ))
+    }
+}
+
+#[test]
+fn the_pages_marks_are_the_judges_comparison_for_every_failing_case() {
+    // Vertices wrong (one round and two), edges wrong, counts wrong, a
+    // broken mesh, a failure seen only on a relabelled input.
+    let mut checked = 0;
+    let mut compared = 0;
+    for (imp, stage) in [
+        ("loop-weights", "subdivide"),
+        ("no-flip", "subdivide"),
+        ("flip-halves", "subdivide"),
+        ("split-not-midpoint", "split"),
+        ("split-not-midpoint", "sequence"),
+        ("flip-face-labels", "flip"),
+        ("flip-wrong-return", "flip"),
+        ("split-stale-b", "split"),
+    ] {
+        let dir = scratch(&format!("marks-{imp}-{stage}"));
+        let json = grade_json(imp, &["--stage", stage], &dir);
+        let pages = all_case_data(&dir);
+        let failed: Vec<&Value> = json["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["passed"] == false)
+            .collect();
+        assert!(!failed.is_empty(), "{imp} fails somewhere");
+        for case in failed {
+            let name = case["name"].as_str().unwrap();
+            let data = pages
+                .get(name)
+                .unwrap_or_else(|| panic!("{imp}: no inspector data for {name}"));
+            if let Err(e) = marks_match_comparison(case, data) {
+                panic!("{imp}: {e}");
+            }
+            checked += 1;
+            compared += usize::from(!case["comparison"].is_null());
+        }
+    }
+    assert!(
+        compared >= 10 && checked > compared,
+        "cases with and without a comparison: {compared} of {checked}"
+    );
+}
+
+/// The section of case `name` in the page, as HTML text.
+fn case_section(report: &Path, name: &str) -> String {
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    let start = html
+        .find(&format!("data-case=\"{name}\""))
+        .unwrap_or_else(|| panic!("no section for {name}"));
+    let end = html[start..]
+        .find("</section>")
+        .map_or(html.len(), |e| start + e);
+    html[start..end].to_string()
+}
+
+#[test]
+fn pictures_that_disagreed_with_the_verdict_now_mark_what_it_says() {
+    // Halves of old edges flipped too: the result is not a valid mesh, so
+    // the judge compared nothing; the page's own matcher drew 21 extra and
+    // 30 missing edges on it. Now only the element validate() names.
+    let dir = scratch("disagreed-invalid");
+    let json = grade_json("flip-halves", &["--case", "cube-subdivide-1"], &dir);
+    let case = &json["cases"][0];
+    assert_eq!(case["passed"], false);
+    assert!(case["comparison"].is_null(), "{case:#}");
+    let bad = &case["invalid"]["element"]["element"];
+    let data = case_data(&dir, "cube-subdivide-1");
+    marks_match_comparison(case, &data).unwrap();
+    assert_eq!(
+        data["marks"]["yours"]["named"][0],
+        serde_json::json!([&bad["kind"].as_str().unwrap()[..1], bad["id"]]),
+        "the element validate() names is marked first: {}",
+        data["marks"]
+    );
+    assert_eq!(data["error"]["el"], format!("h{}", bad["id"]));
+    let section = case_section(&dir, "cube-subdivide-1");
+    assert!(
+        section.contains("nothing is red: your mesh is not valid, so the grader compared none"),
+        "the card says why nothing is red"
+    );
+    assert!(
+        !section.contains("class=\"wrong"),
+        "no red in the static pictures"
+    );
+    // The hint line is styled as one by its data: with every message
+    // reworded, it still is.
+    let dir = scratch("disagreed-reworded");
+    grade_json(
+        "flip-halves",
+        &["--case", "cube-subdivide-1", "--reword-messages"],
+        &dir,
+    );
+    let reworded = case_section(&dir, "cube-subdivide-1");
+    let hints = |html: &str| html.matches("<li class=\"detail hint\">").count();
+    assert!(hints(&section) >= 1, "a hint line");
+    assert_eq!(hints(&reworded), hints(&section));
+
+    // No flip, two rounds: the vertices are wrong, so the judge never
+    // compared edges; the page's matcher paired the leftovers and drew
+    // edges the verdict never named. Now the vertices only.
+    let dir = scratch("disagreed-vertices");
+    let json = grade_json("no-flip", &["--case", "cube-subdivide-2"], &dir);
+    let case = &json["cases"][0];
+    let c = &case["comparison"];
+    assert!(c["missing_edges"].is_null(), "{c:#}");
+    assert!(!c["missing_vertices"].as_array().unwrap().is_empty());
+    let data = case_data(&dir, "cube-subdivide-2");
+    marks_match_comparison(case, &data).unwrap();
+    assert_eq!(data["marks"]["yours"]["e"], serde_json::json!([]));
+    assert_eq!(data["marks"]["expected"]["e"], serde_json::json!([]));
+    let section = case_section(&dir, "cube-subdivide-2");
+    assert!(section.contains("the edges were not compared: the vertices were wrong first"));
+    assert!(!section.contains("missing-edge"), "no missing edge drawn");
 }
 
 /// The grader's judgement of a split's result, as the child's report would
@@ -913,6 +1118,177 @@ fn a_failing_two_round_subdivision_is_selected_and_stepped_through() {
     assert_eq!(s[3]["vertices"], 98, "the end state");
 }
 
+/// The halfedge the `h` key goes to from element `el` (`v3`, `e5`,
+/// `f2`, or a halfedge, which stays) in a mesh of the inspector's data.
+fn halfedge_of(mesh: &Value, el: &str) -> u64 {
+    let id: usize = el[1..].parse().unwrap();
+    let list = match &el[..1] {
+        "v" => "vh",
+        "e" => "eh",
+        "f" => "fh",
+        _ => return id as u64,
+    };
+    mesh[list][id].as_u64().unwrap()
+}
+
+#[test]
+fn a_split_failing_only_on_a_relabelled_input_is_inspected_in_both_numberings() {
+    if !have_chromium() {
+        return;
+    }
+    // Graded for real: this mistake passes on the cone as built from its
+    // faces and fails on a relabelled copy.
+    let dir = scratch("inspect-relabelled-graded");
+    let json = grade_json("split-stale-b", &["--case", "cone-split"], &dir);
+    let case = &json["cases"][0];
+    assert_eq!(case["passed"], false);
+    assert!(
+        !case["labelling"].is_null(),
+        "failed only relabelled: {case:#}"
+    );
+    // The first element the messages name, in both numberings.
+    let named = case["entries"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["level"] != "info")
+        .flat_map(|e| e["elements"].as_array().unwrap())
+        .next()
+        .expect("a message names an element")
+        .clone();
+    let short = |e: &Value| format!("{}{}", &e["kind"].as_str().unwrap()[..1], e["id"]);
+    let (in_case, as_sent) = (short(&named["element"]), short(&named["labelled"]));
+    assert_ne!(in_case, as_sent, "the labelling renamed it: {named}");
+    let data = case_data(&dir, "cone-split");
+    let yours = &data["yours"];
+    let seen = inspect(
+        &dir,
+        "cone-split",
+        serde_json::json!([
+            ["clickError"],
+            ["key", "h"],
+            ["key", "n"],
+            ["key", "t"],
+            ["turn", 2.5, 0.6],
+            ["selectError"]
+        ]),
+        "inspector-relabelled-graded.png",
+    );
+    let s = seen["steps"].as_array().unwrap();
+    // The panel shows the element as sent, and its case id.
+    assert_eq!(seen["error"]["el"], as_sent.as_str(), "{seen}");
+    assert_eq!(sel(&s[0]), as_sent, "{}", s[0]);
+    assert_eq!(
+        s[0]["lines"]["in the case's numbering"],
+        in_case.as_str(),
+        "{}",
+        s[0]
+    );
+    // h, n, t walk the mesh the student's function left.
+    let h = halfedge_of(yours, &as_sent);
+    assert_eq!(sel(&s[1]), format!("h{h}"), "{}", s[1]);
+    let next = link(yours, h, 1);
+    assert_eq!(sel(&s[2]), format!("h{next}"), "{}", s[2]);
+    assert_eq!(s[2]["lines"]["next"], format!("h{}", link(yours, next, 1)));
+    let twin = link(yours, next, 0);
+    assert_eq!(sel(&s[3]), format!("h{twin}"), "{}", s[3]);
+    // Each halfedge has its case id too.
+    let case_h = data["caseIds"]["h"][twin as usize].as_i64().unwrap();
+    if case_h >= 0 {
+        assert_eq!(
+            s[3]["lines"]["in the case's numbering"],
+            format!("h{case_h}"),
+            "{}",
+            s[3]
+        );
+    }
+    // Select error comes back to it, and turns the view.
+    assert_eq!(sel(&s[5]), as_sent);
+    assert_ne!(s[5]["cam"], s[4]["cam"], "the view turned back");
+    // Where the judge matched nothing (the mesh is invalid), the expected
+    // result's old vertices are labelled with the input's ids as sent.
+    let iid = data["expected"]["iid"].as_array().unwrap();
+    let input_vertices = data["input"]["p"].as_array().unwrap().len() / 3;
+    for (i, sent) in iid.iter().enumerate() {
+        let sent = sent.as_i64().unwrap();
+        if i < input_vertices {
+            let case = data["caseIds"]["v"][sent as usize].as_i64().unwrap();
+            assert_eq!(
+                case, i as i64,
+                "expected v{i} is the case's v{i}, sent as v{sent}"
+            );
+        } else {
+            assert_eq!(sent, -1, "a new vertex has no input id");
+        }
+    }
+    // The card says why the ids differ from its title's.
+    let note = seen["note"].as_str().unwrap_or("");
+    assert!(note.contains("relabelled copy"), "{seen}");
+}
+
+#[test]
+fn a_real_two_round_subdivision_is_stepped_through_to_its_first_broken_frame() {
+    if !have_chromium() {
+        return;
+    }
+    // Graded for real with --report: the child recorded the student's
+    // loop_subdivide, whose split_edge leaves b's halfedge stale.
+    let dir = scratch("inspect-recorded");
+    let json = grade_json("split-stale-vertex", &["--case", "cube-subdivide-2"], &dir);
+    let case = &json["cases"][0];
+    assert_eq!(case["passed"], false);
+    let recorded = &case["frames"];
+    let labels = recorded["labels"].as_array().expect("frames were recorded");
+    let k = recorded["first_broken"].as_u64().expect("a broken frame") as usize;
+    let data = case_data(&dir, "cube-subdivide-2");
+    let list = data["frames"]["list"].as_array().unwrap();
+    let count = list.len();
+    assert_eq!(count, labels.len(), "every frame on the page");
+    assert_eq!(data["frames"]["firstBroken"], k as u64);
+    assert!(k >= 1 && k + 1 < count, "{k} of {count}");
+    // The first frame is sent whole, the others as what changed.
+    assert!(list[0]["mesh"].is_object() && list[1]["delta"].is_object());
+    let seen = inspect(
+        &dir,
+        "cube-subdivide-2",
+        serde_json::json!([
+            ["frame", 0],
+            ["frame", k],
+            ["frame", k - 1],
+            ["frame", count - 1]
+        ]),
+        "inspector-recorded.png",
+    );
+    let s = seen["steps"].as_array().unwrap();
+    let text = |i: usize| {
+        format!(
+            "frame {} of {count}: {}",
+            i + 1,
+            labels[i].as_str().unwrap()
+        )
+    };
+    assert_eq!(s[0]["max"], (count - 1) as u64);
+    assert_eq!(s[0]["text"], text(0), "{}", s[0]);
+    assert_eq!(s[0]["shown"], false);
+    assert_eq!(s[0]["vertices"], 8, "the cube before the first split");
+    assert_eq!(s[1]["text"], text(k), "{}", s[1]);
+    assert_eq!(s[1]["shown"], true, "{}", s[1]);
+    assert_eq!(s[1]["broken"], "first broken frame");
+    assert_eq!(s[1]["note"], format!("the first broken frame is {}", k + 1));
+    assert_eq!(s[1]["vertices"], 8 + k as u64, "one vertex per split made");
+    assert_eq!(s[2]["shown"], false, "{}", s[2]);
+    assert_eq!(s[2]["vertices"], 8 + k as u64 - 1);
+    assert_eq!(s[3]["text"], text(count - 1));
+    let end = data["yours"]["p"].as_array().unwrap().len() as u64 / 3;
+    assert_eq!(s[3]["vertices"], end, "the end state is the result");
+    // Rebuilt from the first frame and what changed after it, the last
+    // frame's links are the result's, record for record.
+    assert_eq!(s[3]["links"], data["yours"]["h"]);
+    assert_eq!(s[3]["heads"], data["yours"]["vh"]);
+    assert_ne!(s[0]["links"], s[3]["links"]);
+    assert_eq!(labels[count - 1], "after loop_subdivide");
+}
+
 /// A failed report for `result`, with one message.
 fn invalid_like(
     f: &grader::judge::fixture::Fixture,
@@ -990,6 +1366,47 @@ fn the_whole_lab_failing_makes_a_page_under_5_mb_that_opens_in_2_s() {
     assert_eq!(failed, 0, "every inspector was built");
     assert!(bytes < 5_000_000, "{bytes} bytes");
     assert!(ready < 2000.0, "ready after {ready} ms");
+}
+
+/// The page of a whole graded run, as a student gets it: every case of
+/// the lab and the bonus, the failing ones with the judge's comparison
+/// and, for subdivision, the frames the child recorded. The stubs fail
+/// everything with no mesh; split-stale-vertex fails every split and
+/// every subdivision with a mesh and a step-through (the heaviest page of
+/// the catalogue's usual mistakes: 4.6 MB when measured).
+#[test]
+fn whole_graded_runs_make_pages_under_5_mb_that_open_in_2_s() {
+    if !have_chromium() {
+        return;
+    }
+    for imp in ["stubs", "split-stale-vertex"] {
+        let dir = scratch(&format!("whole-{imp}"));
+        let json = grade_json(imp, &[], &dir);
+        let failed = json["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["passed"] == false)
+            .count();
+        assert!(failed >= 40, "{imp}: {failed} failed");
+        let index = dir.join("index.html");
+        let bytes = std::fs::metadata(&index).unwrap().len();
+        let dom = browse(
+            &dir,
+            &["--window-size=1500,1000", "--dump-dom"],
+            &format!("file://{}", index.display()),
+        );
+        let ready: f64 = dom
+            .split("data-inspector-ready=\"")
+            .nth(1)
+            .and_then(|t| t.split('"').next())
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("{imp}: the inspectors were built"));
+        println!("{imp}: {failed} cases failed, {bytes} bytes, ready {ready} ms");
+        assert_eq!(dom.matches("class=\"inspector-failed\"").count(), 0);
+        assert!(bytes < 5_000_000, "{imp}: {bytes} bytes");
+        assert!(ready < 2000.0, "{imp}: ready after {ready} ms");
+    }
 }
 
 #[test]

@@ -104,7 +104,9 @@ pub use crate::isolate::end::CaseEnd;
 /// The judge's comparison of the student's mesh with the expected one.
 /// "Yours" are ids of the mesh the function left (the labelling's
 /// numbering, new elements appended); "expected" are indices of the
-/// fixture's expected positions.
+/// fixture's expected positions. The vertices are matched whenever the
+/// result was compared at all, even when their number is wrong (the
+/// verdict is then the count; the report draws the matching).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Comparison {
     /// `matched[i]`: the expected vertex your vertex `i` matched, if any.
@@ -726,7 +728,13 @@ fn judge_run(f: &Fixture, end: &CaseEnd, failed: Option<&str>, log: &mut Log) {
                 invalid.as_ref(),
                 mesh.as_deref(),
                 log,
-            )
+            );
+            // A check before the shape (the return, the counts) stopped
+            // the verdict: the comparison is still made, silently, as
+            // data for the report's pictures.
+            if let (None, None, Some(mesh)) = (&log.comparison, invalid, mesh) {
+                log.comparison = Some(comparison_of(f, mesh));
+            }
         }
     }
 }
@@ -1317,6 +1325,63 @@ fn old_vertices(f: &Fixture, before: Counts) -> usize {
     }
 }
 
+/// Your vertices matched to the expected ones, as the comparison's data.
+fn vertex_comparison(f: &Fixture, mesh: &MeshResult) -> (VertexMatch, Comparison) {
+    let m = matching::match_by_neighbourhood(
+        &mesh.positions,
+        &mesh.edges,
+        &f.expected.positions,
+        &f.expected.edges,
+        f.tolerance,
+    );
+    let comparison = Comparison {
+        matched: m.to_expected.clone(),
+        missing_vertices: m.unmatched_expected.clone(),
+        extra_vertices: (0..m.to_expected.len())
+            .filter(|&i| m.to_expected[i].is_none())
+            .collect(),
+        missing_edges: None,
+        extra_edges: None,
+    };
+    (m, comparison)
+}
+
+/// Expected vertex -> your id, for a perfect match.
+fn student_ids(f: &Fixture, m: &VertexMatch) -> Vec<usize> {
+    let mut student_of = vec![0; f.expected.positions.len()];
+    for (s, e) in m.to_expected.iter().enumerate() {
+        if let Some(e) = e {
+            student_of[*e] = s;
+        }
+    }
+    student_of
+}
+
+/// The edge difference into the comparison: missing in expected ids,
+/// extra in yours.
+fn add_edge_comparison(c: &mut Comparison, diff: &matching::EdgeDiff, student_of: &[usize]) {
+    c.missing_edges = Some(diff.missing.clone());
+    c.extra_edges = Some(
+        diff.extra
+            .iter()
+            .map(|&[a, b]| [student_of[a], student_of[b]])
+            .collect(),
+    );
+}
+
+/// The comparison alone, without a word said: what
+/// [`compare_vertices`] and [`compare_edges`] would record, for a case
+/// whose verdict stopped before them.
+fn comparison_of(f: &Fixture, mesh: &MeshResult) -> Comparison {
+    let (m, mut c) = vertex_comparison(f, mesh);
+    if m.is_perfect() {
+        let diff =
+            matching::diff_edges(&matching::mapped_edges(&mesh.edges, &m), &f.expected.edges);
+        add_edge_comparison(&mut c, &diff, &student_ids(f, &m));
+    }
+    c
+}
+
 fn compare_vertices(
     f: &Fixture,
     mesh: &MeshResult,
@@ -1326,6 +1391,10 @@ fn compare_vertices(
     let expected = &f.expected;
     say!(log, Info, "compare all vertices...");
     let (got, want) = (mesh.positions.len(), expected.positions.len());
+    // Matched even when the counts differ: the verdict is the count, but
+    // the report draws which expected vertices none of yours is at.
+    let (m, comparison) = vertex_comparison(f, mesh);
+    log.comparison = Some(comparison);
     if got != want {
         say!(
             log,
@@ -1344,22 +1413,6 @@ fn compare_vertices(
         }
         return None;
     }
-    let m = matching::match_by_neighbourhood(
-        &mesh.positions,
-        &mesh.edges,
-        &expected.positions,
-        &expected.edges,
-        f.tolerance,
-    );
-    log.comparison = Some(Comparison {
-        matched: m.to_expected.clone(),
-        missing_vertices: m.unmatched_expected.clone(),
-        extra_vertices: (0..m.to_expected.len())
-            .filter(|&i| m.to_expected[i].is_none())
-            .collect(),
-        missing_edges: None,
-        extra_edges: None,
-    });
     if !m.is_perfect() {
         say!(
             log,
@@ -1422,6 +1475,14 @@ fn compare_edges(
     let expected = &f.expected;
     say!(log, Info, "compare all edges...");
     let (got, want) = (mesh.edges.len(), expected.edges.len());
+    // Compared before the count is checked: the report draws the
+    // difference even when the verdict is the count.
+    let mine = matching::mapped_edges(&mesh.edges, m);
+    let diff = matching::diff_edges(&mine, &expected.edges);
+    let student_of = student_ids(f, m);
+    if let Some(c) = &mut log.comparison {
+        add_edge_comparison(c, &diff, &student_of);
+    }
     if got != want {
         say!(
             log,
@@ -1429,24 +1490,6 @@ fn compare_edges(
             "number of edges is wrong: {got} (should be {want})"
         );
         return false;
-    }
-    let mine = matching::mapped_edges(&mesh.edges, m);
-    let diff = matching::diff_edges(&mine, &expected.edges);
-    // Name student vertices: expected index -> student id.
-    let mut student_of = vec![0; expected.positions.len()];
-    for (s, e) in m.to_expected.iter().enumerate() {
-        if let Some(e) = e {
-            student_of[*e] = s;
-        }
-    }
-    if let Some(c) = &mut log.comparison {
-        c.missing_edges = Some(diff.missing.clone());
-        c.extra_edges = Some(
-            diff.extra
-                .iter()
-                .map(|&[a, b]| [student_of[a], student_of[b]])
-                .collect(),
-        );
     }
     if diff.is_empty() && mine.len() == want {
         say!(log, Info, "passed");

@@ -87,6 +87,7 @@
       var le = data.le || [];
       for (var q = 0; q + 1 < le.length; q += 2) { m.looseE.push([le[q], le[q + 1]]); }
       m.sid = data.sid || [];
+      m.iid = data.iid || [];
       m.nf = m.polys.length;
     }
     // Which way the faces wind: outward normals for shading and culling.
@@ -193,7 +194,26 @@
     if (data.yours) { I.models.yours = new Model(data.yours, true); }
     I.frames = data.frames && data.frames.list && data.frames.list.length ? data.frames : null;
     if (I.frames) {
-      I.frameModels = I.frames.list.map(function (fr) { return new Model(fr.mesh || {}, true); });
+      // The first frame is whole, each later one what changed since the
+      // one before (new length, then index, value pairs, per array).
+      var prev = {};
+      I.frameModels = I.frames.list.map(function (fr) {
+        var mesh = fr.mesh || {};
+        if (!fr.mesh && fr.delta) {
+          mesh = {};
+          Object.keys(prev).forEach(function (k) { mesh[k] = prev[k]; });
+          Object.keys(fr.delta).forEach(function (k) {
+            var d = fr.delta[k];
+            if (!Array.isArray(d) || !d.length) { delete mesh[k]; return; }
+            var arr = (prev[k] || []).slice(0, d[0]);
+            for (var i = 1; i + 1 < d.length; i += 2) { if (isId(d[i], d[0])) { arr[d[i]] = d[i + 1]; } }
+            for (var j = 0; j < d[0]; j++) { if (arr[j] === undefined) { arr[j] = null; } }
+            mesh[k] = arr;
+          });
+        }
+        prev = mesh;
+        return new Model(mesh, true);
+      });
       I.frame = I.frameModels.length - 1;
       I.models.yours = I.frameModels[I.frame];
     }
@@ -416,8 +436,11 @@
     var name = this.layers.names ? this.names[pane][kind + id] : null;
     if (name === kind + id) { name = null; }
     if (pane === 'expected' && kind === 'v') {
-      var s = this.models.expected.sid[id];
-      return (typeof s === 'number' && s >= 0 ? 'v' + s : '?') + (name ? ' (' + name + ')' : '');
+      // Your id where the judge matched one of yours to it, else the
+      // input's (an old vertex keeps its id), else unknown.
+      var s = this.models.expected.sid[id], n = this.models.expected.iid[id];
+      var shown = typeof s === 'number' && s >= 0 ? 'v' + s : typeof n === 'number' && n >= 0 ? 'v' + n : '?';
+      return shown + (name ? ' (' + name + ')' : '');
     }
     return kind + id + (name ? ' (' + name + ')' : '');
   };
@@ -747,7 +770,9 @@
       if (s.kind === 'v') {
         line('position', fmtP(m.pos[s.id]));
         var sid = m.sid[s.id];
+        var iid = m.iid[s.id];
         line('yours', typeof sid === 'number' && sid >= 0 ? 'v' + sid + ' stands for it' : 'none of yours stands for it');
+        if (typeof iid === 'number' && iid >= 0) { line('in the input', 'v' + iid + ' (an old vertex keeps its id)'); }
       } else if (s.kind === 'f') {
         var poly = m.polys[s.id];
         line('corners', poly ? poly.vs.map(function (v) { return I.label('expected', 'v', v); }).join(', ') : '?');

@@ -152,8 +152,15 @@ pub(super) fn mesh_json(out: &mut String, mesh: &Mesh) {
 
 /// A mesh known only by positions and faces (the expected result): `p`,
 /// `fv` (each face as its length then its corners), `le` (edges no face
-/// has), `sid` (the student's vertex standing for each, or -1).
-pub(super) fn shape_json(out: &mut String, shape: &Shape, student_of: &[Option<usize>]) {
+/// has), `sid` (the student's vertex standing for each, or -1), `iid`
+/// (the input vertex, as sent, each old vertex is, or -1: the labels
+/// where the judge matched nothing).
+pub(super) fn shape_json(
+    out: &mut String,
+    shape: &Shape,
+    student_of: &[Option<usize>],
+    input_of: &[Option<usize>],
+) {
     out.push_str("{\"p\":");
     list(
         out,
@@ -192,6 +199,17 @@ pub(super) fn shape_json(out: &mut String, shape: &Shape, student_of: &[Option<u
     list(
         out,
         (0..shape.len()).map(|i| student_of.get(i).copied().flatten()),
+        |o, s| match s {
+            Some(s) => {
+                let _ = write!(o, "{s}");
+            }
+            None => o.push_str("-1"),
+        },
+    );
+    out.push_str(",\"iid\":");
+    list(
+        out,
+        (0..shape.len()).map(|i| input_of.get(i).copied().flatten()),
         |o, s| match s {
             Some(s) => {
                 let _ = write!(o, "{s}");
@@ -448,17 +466,78 @@ pub(super) fn case_numbering(
     Some([vmap, emap, fmap, hmap])
 }
 
-/// Frames as JSON: `{"list":[{"label":..,"mesh":..},..],"firstBroken":k,
-/// "cut":..}`, at most [`FRAME_LIMIT`] frames and [`FRAME_BYTES`] bytes.
+/// What changed in a mesh's arrays (as [`mesh_json`] writes them) since
+/// the frame before: per array that changed, its new length then
+/// index, value pairs (`null` for an array the mesh no longer has). A
+/// split changes a dozen records, so the frames of a subdivision cost
+/// little more than one mesh.
+fn mesh_delta(out: &mut String, before: &serde_json::Value, after: &serde_json::Value) {
+    use serde_json::Value;
+    let (Some(b), Some(a)) = (before.as_object(), after.as_object()) else {
+        out.push_str("{}");
+        return;
+    };
+    let empty = Vec::new();
+    let mut first = true;
+    out.push('{');
+    let keys: std::collections::BTreeSet<&String> = b.keys().chain(a.keys()).collect();
+    for key in keys {
+        let old = b.get(key).and_then(Value::as_array);
+        let Some(new) = a.get(key).and_then(Value::as_array) else {
+            if old.is_some() {
+                out.push_str(if first { "" } else { "," });
+                first = false;
+                string(out, key);
+                out.push_str(":null");
+            }
+            continue;
+        };
+        let old = old.unwrap_or(&empty);
+        let changed: Vec<usize> = (0..new.len())
+            .filter(|&i| old.get(i) != Some(&new[i]))
+            .collect();
+        if changed.is_empty() && old.len() == new.len() {
+            continue;
+        }
+        out.push_str(if first { "" } else { "," });
+        first = false;
+        string(out, key);
+        let _ = write!(out, ":[{}", new.len());
+        for i in changed {
+            let _ = write!(out, ",{i},{}", new[i]);
+        }
+        out.push(']');
+    }
+    out.push('}');
+}
+
+/// Frames as JSON: `{"list":[{"label":..,"mesh":..},{"label":..,"delta":..},..],
+/// "firstBroken":k, "cut":..}`: the first frame whole, each later one as
+/// its [`mesh_delta`] from the one before; at most [`FRAME_LIMIT`] frames
+/// and [`FRAME_BYTES`] bytes.
 pub(super) fn frames_json(out: &mut String, frames: &Frames) {
     let start = out.len();
     out.push_str("{\"list\":[");
     let mut written = 0;
+    let mut previous: Option<serde_json::Value> = None;
     for (label, mesh) in frames.meshes.iter().take(FRAME_LIMIT) {
+        let mut whole = String::new();
+        mesh_json(&mut whole, mesh);
+        let value: serde_json::Value =
+            serde_json::from_str(&whole).unwrap_or(serde_json::Value::Null);
         let mut one = String::from("{\"label\":");
         string(&mut one, label);
-        one.push_str(",\"mesh\":");
-        mesh_json(&mut one, mesh);
+        match &previous {
+            Some(before) => {
+                one.push_str(",\"delta\":");
+                mesh_delta(&mut one, before, &value);
+            }
+            None => {
+                one.push_str(",\"mesh\":");
+                one.push_str(&whole);
+            }
+        }
+        previous = Some(value);
         one.push('}');
         if written > 0 && out.len() - start + one.len() > FRAME_BYTES {
             break;

@@ -8,8 +8,8 @@ use super::faces::{Shape, MAX_DEGREE};
 use super::svg::{Camera, Prepared};
 use super::{fmt_d, fmt_p, pair, sides};
 use crate::judge::fixture::{Fixture, Operation, Returns};
-use crate::judge::grade::{CaseReport, Entry, Level};
-use crate::judge::matching::{self, VertexMatch};
+use crate::judge::grade::{CaseReport, Comparison, Entry, Level};
+use crate::judge::matching;
 
 /// Meshes with fewer vertices get their ids written beside the vertices.
 pub(super) const LABEL_LIMIT: usize = 60;
@@ -117,129 +117,71 @@ pub(super) fn resolve_names(mesh: &Mesh, names: &[Element]) -> Vec<Named> {
         .collect()
 }
 
-/// The student's result compared with the expected one, for marking: the
-/// grader's own matching, run on whatever the student left, then the
-/// leftovers paired (a vertex of yours in the wrong place and the expected
-/// vertex it stands for), so that a misplaced vertex does not also make
-/// every edge around it look wrong.
-pub(super) struct Comparison {
-    /// Student vertex -> the expected vertex matched by position.
-    pub(super) matched: Vec<Option<usize>>,
-    /// Expected vertices no student vertex is near, in index order.
-    pub(super) unmatched_expected: Vec<usize>,
-    /// Expected vertex -> the student's vertex matched or paired with it.
+/// The judge's comparison ([`Comparison`], made on the mesh the page
+/// draws) as the pictures use it: nothing is matched again here, so a
+/// picture marks what the verdict says. Every id is bounds-checked
+/// against the shapes drawn.
+pub(super) struct Compared {
+    /// Your vertices that matched no expected one.
+    pub(super) extra_vertices: Vec<usize>,
+    /// Expected vertices none of yours matched.
+    pub(super) missing_vertices: Vec<usize>,
+    /// Expected vertex -> your vertex matched with it (or standing for it,
+    /// see `stands_for`).
     pub(super) student_of: Vec<Option<usize>>,
-    /// Student vertex -> the expected vertex it was paired with, though
-    /// not in place.
-    pub(super) displaced: Vec<Option<usize>>,
-    /// Expected edges no student edge maps to (expected numbering).
-    pub(super) missing: Vec<[usize; 2]>,
-    /// Student edges that are not expected (student numbering).
-    pub(super) extra: Vec<[usize; 2]>,
+    /// One vertex of yours in the wrong place and the expected vertex it
+    /// stands for, when the judge left exactly one of each unmatched: the
+    /// pairing is then certain, and a dashed line shows the move.
+    pub(super) stands_for: Option<(usize, usize)>,
+    /// Expected edges you lack (expected ids), `None` when the judge did
+    /// not compare edges.
+    pub(super) missing_edges: Option<Vec<[usize; 2]>>,
+    /// Your edges the expected result lacks (your ids).
+    pub(super) extra_edges: Option<Vec<[usize; 2]>>,
 }
 
-/// Leftovers paired only when there are few of them, by distance.
-pub(super) const PAIR_BY_DISTANCE: usize = 300;
-
-pub(super) fn compare(f: &Fixture, yours: &Shape, expected: &Shape) -> Comparison {
-    // Positions the hash grid can take: a cell index must fit an i64.
-    let tol = f.tolerance.max(1e-300);
-    let sane = |p: &Option<DVec3>| match p {
-        Some(p) if p.abs().max_element() / tol < 1e15 => p.to_array(),
-        _ => [f64::NAN; 3],
-    };
-    let mine: Vec<[f64; 3]> = yours.points.iter().map(sane).collect();
-    let theirs: Vec<[f64; 3]> = expected.points.iter().map(sane).collect();
-    let m: VertexMatch =
-        matching::match_by_neighbourhood(&mine, &yours.edges, &theirs, &expected.edges, tol);
-    let mut to_expected = m.to_expected.clone();
-    let mut student_of = vec![None; expected.len()];
-    for (s, e) in to_expected.iter().enumerate() {
+pub(super) fn compared(c: &Comparison, yours: &Shape, expected: &Shape) -> Compared {
+    let (ny, ne) = (yours.len(), expected.len());
+    let mut student_of = vec![None; ne];
+    for (s, e) in c.matched.iter().enumerate().take(ny) {
         if let Some(slot) = e.and_then(|e| student_of.get_mut(e)) {
             *slot = Some(s);
         }
     }
-    // Pair leftovers: each takes the free expected vertex that shares the
-    // most already-paired neighbours with it, nearest first; twice, so that
-    // pairs found in the first round help the second.
-    let mine_adj = crate::judge::matching::adjacency(yours.len(), &yours.edges);
-    let theirs_adj = crate::judge::matching::adjacency(expected.len(), &expected.edges);
-    let mut displaced = vec![None; yours.len()];
-    for round in 0..3 {
-        let left: Vec<usize> = (0..yours.len())
-            .filter(|&s| to_expected[s].is_none() && yours.point(s).is_some())
-            .collect();
-        let free: Vec<usize> = (0..expected.len())
-            .filter(|&e| student_of[e].is_none())
-            .collect();
-        if left.is_empty() || free.is_empty() {
-            break;
-        }
-        for s in left {
-            let p = yours.point(s).unwrap_or(DVec3::ZERO);
-            let dist = |e: usize| expected.point(e).map_or(f64::INFINITY, |q| q.distance(p));
-            let candidates: Vec<usize> = if round < 2 {
-                // Expected neighbours of the expected vertices my neighbours stand for.
-                let mut c: Vec<usize> = mine_adj[s]
-                    .iter()
-                    .filter_map(|&n| to_expected[n])
-                    .flat_map(|e| theirs_adj[e].iter().copied())
-                    .filter(|&e| student_of[e].is_none())
-                    .collect();
-                c.sort_unstable();
-                c.dedup();
-                c
-            } else if free.len() <= PAIR_BY_DISTANCE {
-                free.iter()
-                    .copied()
-                    .filter(|&e| student_of[e].is_none())
-                    .collect()
-            } else {
-                Vec::new()
-            };
-            let shared = |e: usize| {
-                mine_adj[s]
-                    .iter()
-                    .filter(|&&n| {
-                        to_expected[n].is_some_and(|x| theirs_adj[e].binary_search(&x).is_ok())
-                    })
-                    .count()
-            };
-            let best = candidates
-                .into_iter()
-                .map(|e| (shared(e), dist(e), e))
-                .filter(|&(k, _, _)| round == 2 || k >= 2 - round)
-                .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-            if let Some((_, _, e)) = best {
-                to_expected[s] = Some(e);
-                student_of[e] = Some(s);
-                displaced[s] = Some(e);
-            }
-        }
-    }
-    let paired = VertexMatch {
-        to_expected: to_expected.clone(),
-        unmatched_expected: Vec::new(),
-    };
-    let mapped = matching::mapped_edges(&yours.edges, &paired);
-    let diff = matching::diff_edges(&mapped, &expected.edges);
-    let extra = diff
-        .extra
+    let extra_vertices: Vec<usize> = c
+        .extra_vertices
         .iter()
-        .filter_map(|&[a, b]| {
-            Some(pair(
-                student_of.get(a).copied()??,
-                student_of.get(b).copied()??,
-            ))
-        })
+        .copied()
+        .filter(|&v| v < ny)
         .collect();
-    Comparison {
-        matched: m.to_expected,
-        unmatched_expected: m.unmatched_expected,
+    let missing_vertices: Vec<usize> = c
+        .missing_vertices
+        .iter()
+        .copied()
+        .filter(|&v| v < ne)
+        .collect();
+    let stands_for = match (&extra_vertices[..], &missing_vertices[..]) {
+        ([s], [k]) => Some((*s, *k)),
+        _ => None,
+    };
+    if let Some((s, k)) = stands_for {
+        student_of[k] = Some(s);
+    }
+    let edges = |list: &Option<Vec<[usize; 2]>>, n: usize| {
+        list.as_ref().map(|l| {
+            l.iter()
+                .filter(|[a, b]| *a < n && *b < n && a != b)
+                .map(|&[a, b]| pair(a, b))
+                .collect()
+        })
+    };
+    Compared {
+        missing_edges: edges(&c.missing_edges, ne),
+        extra_edges: edges(&c.extra_edges, ny),
+        extra_vertices,
+        missing_vertices,
         student_of,
-        displaced,
-        missing: diff.missing,
-        extra,
+        stands_for,
     }
 }
 
@@ -267,6 +209,9 @@ pub(super) struct CasePictures {
     pub(super) case_of: Vec<Option<usize>>,
     /// Expected vertex -> the student's vertex matched or paired with it.
     pub(super) student_of_expected: Vec<Option<usize>>,
+    /// Expected vertex -> the input vertex (as sent) it is: the reference
+    /// keeps the input's ids and appends new vertices.
+    pub(super) input_of_expected: Vec<Option<usize>>,
     /// The case's edge in the input as sent.
     pub(super) case_edge: Option<[usize; 2]>,
     /// The expected result's new vertex (a split's), expected numbering.
@@ -316,7 +261,11 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     }
     let id = |i: usize| id_of.get(i).copied().flatten();
 
-    let cmp = yours.as_ref().map(|y| compare(f, y, &expected));
+    // The judge's comparison, made on `r.result`, the mesh drawn.
+    let cmp = match (&r.comparison, &yours) {
+        (Some(c), Some(y)) => Some(compared(c, y, &expected)),
+        _ => None,
+    };
     let mut notes = Vec::new();
 
     // Input: the case's edge.
@@ -410,12 +359,10 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     }
     // Red only on a failure (a pass may differ within the tolerance).
     if let (Some(c), Some(y), false) = (&cmp, &yours, r.passed) {
-        for (s, e) in c.matched.iter().enumerate() {
-            let Some(p) = y.point(s).filter(|_| e.is_none()) else {
-                continue;
-            };
-            let title = match c.displaced[s].and_then(|k| Some((k, expected.point(k)?))) {
-                Some((_, q)) => {
+        for &s in &c.extra_vertices {
+            let Some(p) = y.point(s) else { continue };
+            let title = match c.stands_for.and_then(|(_, k)| expected.point(k)) {
+                Some(q) if c.stands_for.is_some_and(|(m, _)| m == s) => {
                     marks_yours.moves.push([p, q]);
                     format!(
                         "your v{s} is at {}: it should be at {} ({} away)",
@@ -424,7 +371,7 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
                         fmt_d(p.distance(q))
                     )
                 }
-                None => format!(
+                _ => format!(
                     "your v{s} at {}: no expected vertex is within {} of it",
                     fmt_p(p),
                     f.tolerance
@@ -432,11 +379,11 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             };
             marks_yours.wrong_points.push((s, title));
         }
-        for &k in &c.unmatched_expected {
+        for &k in &c.missing_vertices {
             let Some(q) = expected.point(k) else { continue };
             let stands = match c.student_of[k] {
                 Some(s) => format!("; your v{s} stands for it"),
-                None => "; none of yours stands for it".to_string(),
+                None => String::new(),
             };
             let title = format!(
                 "expected a vertex at {}: none of yours is within {}{stands}",
@@ -446,29 +393,42 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
             marks_expected.wrong_points.push((k, title.clone()));
             marks_yours.ghost_points.push((q, title));
         }
-        marks_expected.wrong_edges = c.missing.clone();
+        let missing = c.missing_edges.clone().unwrap_or_default();
         // A missing edge is drawn between your vertices where you have them.
         let place = |k: usize| {
             c.student_of[k]
                 .and_then(|s| y.point(s))
                 .or_else(|| expected.point(k))
         };
-        marks_yours.ghost_edges = c
-            .missing
+        marks_yours.ghost_edges = missing
             .iter()
             .filter_map(|&[a, b]| Some([place(a)?, place(b)?]))
             .collect();
-        marks_yours.wrong_edges = c.extra.clone();
-        if marks_yours.wrong_points.is_empty()
-            && marks_yours.ghost_points.is_empty()
-            && c.missing.is_empty()
-            && c.extra.is_empty()
-        {
+        let missing_is_empty = missing.is_empty();
+        marks_expected.wrong_edges = missing;
+        marks_yours.wrong_edges = c.extra_edges.clone().unwrap_or_default();
+        let vertices_right = c.extra_vertices.is_empty() && c.missing_vertices.is_empty();
+        let edges_compared = c.missing_edges.is_some() && c.extra_edges.is_some();
+        if !edges_compared {
+            notes.push(if vertices_right {
+                "the edges were not compared (see the messages)".to_string()
+            } else {
+                "the edges were not compared: the vertices were wrong first".to_string()
+            });
+        } else if vertices_right && missing_is_empty && c.extra_edges.iter().all(Vec::is_empty) {
             notes.push(
                 "your mesh has the expected vertices and edges: what failed is not in its shape (see the messages)"
                     .to_string(),
             );
         }
+    } else if yours.is_some() && !r.passed {
+        notes.push(if r.invalid.is_some() {
+            "nothing is red: your mesh is not valid, so the grader compared none of its positions or edges; purple is what the messages name"
+                .to_string()
+        } else {
+            "nothing is red: the grader did not compare your mesh with the expected one (see the messages)"
+                .to_string()
+        });
     }
 
     // Where to look from: at the case's edge, else at the first problem,
@@ -550,6 +510,9 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
     })
     .collect();
     let student_of_expected = (0..expected.len()).map(student_of).collect();
+    let input_of_expected = (0..expected.len())
+        .map(|i| if i < n_in { id(i) } else { None })
+        .collect();
     CasePictures {
         input,
         expected,
@@ -561,6 +524,7 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         notes,
         case_of,
         student_of_expected,
+        input_of_expected,
         case_edge,
         new_vertex,
     }

@@ -84,7 +84,7 @@ mod tests {
 
     use super::faces::Shape;
     use super::inspector;
-    use super::marks::compare;
+    use super::marks::compared;
     use super::*;
     use crate::judge::fixture::{Fixture, Operation, Returns};
     use crate::judge::grade::Entry;
@@ -312,27 +312,48 @@ mod tests {
     }
 
     #[test]
-    fn a_misplaced_vertex_is_paired_and_its_edges_are_not_called_wrong() {
+    fn the_judges_comparison_is_drawn_as_it_is_and_ids_past_the_mesh_are_dropped() {
+        use crate::judge::grade::Comparison;
         let f = fixture("cube-split");
         let expected = Shape::expected(&f);
-        let mut yours = expected.clone();
+        let yours = expected.clone();
         let new = f.input.positions.len();
-        yours.points[new] = Some(DVec3::new(9.0, 9.0, 9.0));
-        let c = compare(&f, &yours, &expected);
-        assert_eq!(c.matched[new], None);
-        assert_eq!(c.unmatched_expected, vec![new]);
-        assert_eq!(c.displaced[new], Some(new));
-        assert!(c.missing.is_empty() && c.extra.is_empty());
-        // An edge moved: one missing, one extra.
-        let gone = yours.edges.pop().unwrap();
-        let new_edge = (0..yours.len())
-            .map(|b| pair(gone[0], b))
-            .find(|e| e[0] != e[1] && *e != gone && !yours.edges.contains(e))
-            .unwrap();
-        yours.edges.push(new_edge);
-        let c = compare(&f, &yours, &expected);
-        assert_eq!(c.missing, vec![gone]);
-        assert_eq!(c.extra.len(), 1);
+        let n = expected.len();
+        // One vertex of yours matched nothing and one expected vertex was
+        // left: the one stands for the other.
+        let mut matched: Vec<Option<usize>> = (0..n).map(Some).collect();
+        matched[new] = None;
+        let c = Comparison {
+            matched: matched.clone(),
+            missing_vertices: vec![new],
+            extra_vertices: vec![new],
+            missing_edges: None,
+            extra_edges: None,
+        };
+        let d = compared(&c, &yours, &expected);
+        assert_eq!(d.stands_for, Some((new, new)));
+        assert_eq!(d.student_of[new], Some(new));
+        assert_eq!(d.missing_edges, None, "not compared stays not compared");
+        // Two of each: no pairing is certain, none is made.
+        matched[0] = None;
+        let c = Comparison {
+            matched,
+            missing_vertices: vec![0, new],
+            extra_vertices: vec![0, new, n + 5],
+            missing_edges: Some(vec![[1, 0], [0, n + 1]]),
+            extra_edges: Some(vec![[2, 3], [n, 0]]),
+        };
+        let d = compared(&c, &yours, &expected);
+        assert_eq!(d.stands_for, None);
+        assert_eq!(d.student_of[0], None);
+        assert_eq!(
+            d.extra_vertices,
+            vec![0, new],
+            "v{} is past your mesh",
+            n + 5
+        );
+        assert_eq!(d.missing_edges, Some(vec![[0, 1]]));
+        assert_eq!(d.extra_edges, Some(vec![[2, 3]]));
     }
 
     #[test]

@@ -212,7 +212,12 @@ fn case_data(
     if r.passed {
         out.push_str("null");
     } else {
-        inspector::shape_json(&mut out, &pics.expected, &pics.student_of_expected);
+        inspector::shape_json(
+            &mut out,
+            &pics.expected,
+            &pics.student_of_expected,
+            &pics.input_of_expected,
+        );
     }
     out.push_str(",\"yours\":");
     match &r.result {
@@ -374,7 +379,8 @@ pub(super) fn case_html(
         let class = match e.level {
             Level::Info => "info",
             Level::Warn => "warn",
-            Level::Detail if e.text.starts_with("hint:") => "detail hint",
+            // A hint line by its data (`Entry::hint`), not its words.
+            Level::Detail if e.hint.is_some() => "detail hint",
             Level::Detail => "detail",
         };
         let below = e.quote_below("");
