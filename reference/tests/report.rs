@@ -1280,6 +1280,18 @@ fn a_real_two_round_subdivision_is_stepped_through_to_its_first_broken_frame() {
     assert_eq!(s[2]["vertices"], 8 + k as u64 - 1);
     assert_eq!(s[3]["text"], text(count - 1));
     let end = data["yours"]["p"].as_array().unwrap().len() as u64 / 3;
+    // A subdivision that passed names no broken frame, though its splits
+    // were off the midpoint along the way (the moves put them right).
+    let dir = scratch("inspect-recorded-passed");
+    let json = grade_json("split-not-midpoint", &["--case", "cube-subdivide-2"], &dir);
+    assert_eq!(json["cases"][0]["passed"], true);
+    let passed = case_data(&dir, "cube-subdivide-2");
+    assert!(passed["frames"]["list"].as_array().unwrap().len() > 1);
+    assert!(
+        passed["frames"]["firstBroken"].is_null(),
+        "{}",
+        passed["frames"]["firstBroken"]
+    );
     assert_eq!(s[3]["vertices"], end, "the end state is the result");
     // Rebuilt from the first frame and what changed after it, the last
     // frame's links are the result's, record for record.

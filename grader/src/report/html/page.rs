@@ -542,7 +542,17 @@ pub fn write_report_live(
     // Each subdivision's step-through, where the grader recorded one.
     let frames: Vec<Option<Frames>> = cases
         .iter()
-        .map(|(_, r)| r.frames.as_ref().map(Frames::from_recorded))
+        .map(|(_, r)| {
+            r.frames.as_ref().map(Frames::from_recorded).map(|mut fr| {
+                // A case that passed has nothing broken to point at, even
+                // where a frame looked wrong along the way (a split off
+                // the midpoint that the round's moves put right).
+                if r.passed {
+                    fr.first_broken = None;
+                }
+                fr
+            })
+        })
         .collect();
     let cases: Vec<(&Fixture, &CaseReport, Option<&Frames>)> = cases
         .iter()
