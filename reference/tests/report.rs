@@ -753,7 +753,7 @@ fn the_pages_marks_are_the_judges_comparison_for_every_failing_case() {
         ("split-not-midpoint", "sequence"),
         ("flip-face-labels", "flip"),
         ("flip-wrong-return", "flip"),
-        ("split-stale-b", "split"),
+        ("split-stale-vertex", "split"),
     ] {
         let dir = scratch(&format!("marks-{imp}-{stage}"));
         let json = grade_json(imp, &["--stage", stage], &dir);
@@ -1139,7 +1139,7 @@ fn a_split_failing_only_on_a_relabelled_input_is_inspected_in_both_numberings() 
     // Graded for real: this mistake passes on the cone as built from its
     // faces and fails on a relabelled copy.
     let dir = scratch("inspect-relabelled-graded");
-    let json = grade_json("split-stale-b", &["--case", "cone-split"], &dir);
+    let json = grade_json("split-stale-vertex", &["--case", "cone-split"], &dir);
     let case = &json["cases"][0];
     assert_eq!(case["passed"], false);
     assert!(
