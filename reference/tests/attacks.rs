@@ -574,6 +574,64 @@ fn leak() -> ! {
 }
 
 #[test]
+fn the_build_s_memory_cap_is_told_by_how_the_compiler_ended_not_by_its_words() {
+    // The compiler's words are the student's to choose: `compile_error!`
+    // prints the allocator's own message. The cap is told by the compiler
+    // ending by a signal (an allocation failing under the cap aborts it).
+    let stubs = read(&reference::lab_root().join("crates/meshedit/src/lib.rs"));
+    let forged = "memory allocation of 1 bytes failed (out of memory)";
+    let (row, log) = grade_class(
+        "memory-words",
+        &format!("{stubs}\ncompile_error!(\"{forged}\");\n"),
+    );
+    assert_eq!(
+        (row.score, row.status.as_str()),
+        (0.0, "does not compile"),
+        "{row:?}\n{log}"
+    );
+    assert!(log.contains(forged), "the compile error is quoted: {log}");
+    assert!(
+        !log.contains("the build used more than") && !row.first_failure.contains("more than"),
+        "{row:?}\n{log}"
+    );
+    // 8 GiB computed at compile time: rustc's constant evaluation meets
+    // the cap and says so itself, then exits as for any compile error; it
+    // is one, quoted, not the cap (no compiler process was ended by it).
+    let (row, log) = grade_class(
+        "memory-const",
+        &format!("{stubs}\npub static HUGE: [u8; 1 << 33] = [1; 1 << 33];\n"),
+    );
+    assert_eq!(
+        (row.score, row.status.as_str()),
+        (0.0, "does not compile"),
+        "{row:?}\n{log}"
+    );
+    assert!(
+        log.contains("tried to allocate more memory than available to compiler")
+            && !log.contains("the build used more than"),
+        "{row:?}\n{log}"
+    );
+    // The real blow-up: a macro doubling its tokens at every step grows
+    // the compiler until an allocation fails under the cap: it aborts.
+    let (row, log) = grade_class(
+        "memory-bomb",
+        &format!(
+            "{stubs}\nmacro_rules! double {{ ($($t:tt)*) => {{ double!{{$($t)* $($t)*}} }} }}\n\
+             double!{{x}}\n"
+        ),
+    );
+    assert_eq!(
+        (row.score, row.status.as_str()),
+        (0.0, "does not compile"),
+        "{row:?}\n{log}"
+    );
+    assert!(
+        log.contains("the build used more than 4 GiB"),
+        "{row:?}\n{log}"
+    );
+}
+
+#[test]
 fn a_root_grader_never_runs_student_code_as_root() {
     use std::os::unix::fs::PermissionsExt;
     if !is_root() {
