@@ -574,6 +574,64 @@ fn leak() -> ! {
 }
 
 #[test]
+fn the_build_s_memory_cap_is_told_by_how_the_compiler_ended_not_by_its_words() {
+    // The compiler's words are the student's to choose: `compile_error!`
+    // prints the allocator's own message. The cap is told by the compiler
+    // ending by a signal (an allocation failing under the cap aborts it).
+    let stubs = read(&reference::lab_root().join("crates/meshedit/src/lib.rs"));
+    let forged = "memory allocation of 1 bytes failed (out of memory)";
+    let (row, log) = grade_class(
+        "memory-words",
+        &format!("{stubs}\ncompile_error!(\"{forged}\");\n"),
+    );
+    assert_eq!(
+        (row.score, row.status.as_str()),
+        (0.0, "does not compile"),
+        "{row:?}\n{log}"
+    );
+    assert!(log.contains(forged), "the compile error is quoted: {log}");
+    assert!(
+        !log.contains("the build used more than") && !row.first_failure.contains("more than"),
+        "{row:?}\n{log}"
+    );
+    // 8 GiB computed at compile time: rustc's constant evaluation meets
+    // the cap and says so itself, then exits as for any compile error; it
+    // is one, quoted, not the cap (no compiler process was ended by it).
+    let (row, log) = grade_class(
+        "memory-const",
+        &format!("{stubs}\npub static HUGE: [u8; 1 << 33] = [1; 1 << 33];\n"),
+    );
+    assert_eq!(
+        (row.score, row.status.as_str()),
+        (0.0, "does not compile"),
+        "{row:?}\n{log}"
+    );
+    assert!(
+        log.contains("tried to allocate more memory than available to compiler")
+            && !log.contains("the build used more than"),
+        "{row:?}\n{log}"
+    );
+    // The real blow-up: a macro doubling its tokens at every step grows
+    // the compiler until an allocation fails under the cap: it aborts.
+    let (row, log) = grade_class(
+        "memory-bomb",
+        &format!(
+            "{stubs}\nmacro_rules! double {{ ($($t:tt)*) => {{ double!{{$($t)* $($t)*}} }} }}\n\
+             double!{{x}}\n"
+        ),
+    );
+    assert_eq!(
+        (row.score, row.status.as_str()),
+        (0.0, "does not compile"),
+        "{row:?}\n{log}"
+    );
+    assert!(
+        log.contains("the build used more than 4 GiB"),
+        "{row:?}\n{log}"
+    );
+}
+
+#[test]
 fn a_root_grader_never_runs_student_code_as_root() {
     use std::os::unix::fs::PermissionsExt;
     if !is_root() {
@@ -1359,7 +1417,9 @@ fn no_file_s_mode_times_owner_or_attributes_can_be_changed() {
     // Landlock guards opening a file, not its metadata: the filter refuses
     // the calls. The file is the child's user's (`nobody`, as the root
     // grader's child and as a grader run by that user), as a TA's lab is
-    // their own child's when they grade as themselves.
+    // their own child's when they grade as themselves. Without the PID
+    // namespace, so without the empty root that would hide the file: the
+    // filter is what is tried.
     use std::os::unix::fs::{MetadataExt, PermissionsExt};
     let target = Path::new(attacks::METADATA_TARGET);
     std::fs::create_dir_all(target.parent().unwrap()).unwrap();
@@ -1375,7 +1435,7 @@ fn no_file_s_mode_times_owner_or_attributes_can_be_changed() {
     };
     for as_user in [false, true] {
         let before = make();
-        let args = ["--case", "cube-subdivide-1"];
+        let args = ["--case", "cube-subdivide-1", "--without-pid-namespace"];
         let g = if as_user {
             grade_as_user("file-metadata", &args)
         } else {
@@ -1514,28 +1574,129 @@ fn a_fresh_look_s_probes_are_all_stopped() {
 }
 
 #[test]
-#[ignore = "open: Landlock guards opening files, not stat: the child sees which paths exist"]
+fn a_thread_bomb_is_capped_when_a_ta_grades_as_themselves() {
+    // A grader run by an ordinary user: `RLIMIT_NPROC` would count all of
+    // the user's processes, so it is set only in the user namespace, where
+    // the kernel counts the case's alone. The bomb stops at the cap and the
+    // case ends in time with its verdict.
+    let g = grade_as_user("probes", &["--case", "cube-subdivide-1"]);
+    assert!(g.stdout.contains("own PID namespace"), "{}", g.context());
+    assert_no_flip_verdict(&g);
+    let threads: usize = g
+        .stdout
+        .lines()
+        .find_map(|l| {
+            l.split("| attack: started ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
+        .unwrap_or_else(|| panic!("no thread count: {}", g.context()));
+    assert!(threads <= 512, "{threads} threads: {}", g.context());
+}
+
+#[test]
 fn the_hidden_fixtures_cannot_even_be_seen_to_exist() {
-    // The child program's path leads to the lab; `stat` finds
-    // `fixtures/hidden` (and would find a hidden case's file by its name,
-    // and its size) though nothing in it can be opened or listed. Closing
-    // it needs a mount namespace with nothing but the program and the
-    // libraries in it.
-    let g = grade("probes", &["--case", "cube-subdivide-1"]);
-    let seen = g
-        .attack("hidden fixture folders seen by stat")
-        .unwrap_or_else(|| panic!("no report: {}", g.context()));
-    assert!(seen.trim_end().ends_with("by stat:"), "{}", g.context());
+    // Landlock guards opening, not `stat`: the child's root is an empty
+    // tmpfs of its own mount namespace, holding the program (as `/child`)
+    // and the libraries, so neither the lab (by the program's path or the
+    // path compiled in), nor `/tmp`, nor anything else of the machine is
+    // even seen to exist. As root (Gradescope's path) and as an ordinary
+    // user (a TA grading as themselves, in a user namespace).
+    for as_user in [false, true] {
+        let args = ["--case", "cube-subdivide-1"];
+        let g = if as_user {
+            grade_as_user("probes", &args)
+        } else {
+            grade("probes", &args)
+        };
+        assert!(
+            g.stdout
+                .contains("empty root (no other file even seen to exist)"),
+            "as user {as_user}: {}",
+            g.context()
+        );
+        for what in [
+            "hidden fixture folders seen by stat",
+            "known paths seen by stat",
+        ] {
+            let seen = g
+                .attack(what)
+                .unwrap_or_else(|| panic!("no report of {what}: {}", g.context()));
+            assert!(
+                seen.trim_end().ends_with("by stat:"),
+                "as user {as_user}: {}",
+                g.context()
+            );
+        }
+        assert!(
+            g.stdout
+                .contains("| attack: the child program is Ok(\"/child\")"),
+            "as user {as_user}: {}",
+            g.context()
+        );
+    }
+}
+
+#[test]
+fn no_other_program_can_be_run_even_without_landlock() {
+    // Without Landlock nothing stops `execve` by path: in the empty root
+    // there is no other program to run (`/bin/sh` is not there). As root
+    // and as an ordinary user.
+    for as_user in [false, true] {
+        let args = ["--case", "cube-subdivide-1", "--without-landlock"];
+        let g = if as_user {
+            grade_as_user("probes", &args)
+        } else {
+            grade("probes", &args)
+        };
+        assert!(
+            g.stdout.contains("Landlock off") && g.stdout.contains("empty root"),
+            "as user {as_user}: {}",
+            g.context()
+        );
+        assert!(
+            g.denied("run a shell (execve /bin/sh)"),
+            "as user {as_user}: {}",
+            g.context()
+        );
+    }
+}
+
+#[test]
+fn without_a_pid_namespace_the_machine_s_files_are_said_to_be_seen() {
+    // The empty root needs the case's own `/proc`: where there is no PID
+    // namespace, the protections line says the files are visible.
+    let g = grade(
+        "probes",
+        &["--case", "cube-subdivide-1", "--without-pid-namespace"],
+    );
+    assert!(
+        g.stdout
+            .contains("machine's files seen to exist (no mount namespace here)"),
+        "{}",
+        g.context()
+    );
+    assert!(
+        g.attack("known paths seen by stat")
+            .is_some_and(|l| l.contains("/tmp")),
+        "{}",
+        g.context()
+    );
 }
 
 #[test]
 fn no_file_is_emptied_moved_or_made_even_without_landlock() {
     // Landlock stops each; without it (old kernels, some containers) the
     // filter must, or a TA grading as themselves has their lab wiped: the
-    // folder and the file are the child's user's (`nobody` here).
+    // folder and the file are the child's user's (`nobody` here). Without
+    // Landlock, tried with and without the empty root (which alone would
+    // hide the folder): the filter must hold on its own.
     use std::os::unix::fs::PermissionsExt;
     let dir = Path::new(attacks::WIPE_DIR);
-    for landlock in [true, false] {
+    for (landlock, pid_namespace) in [(true, true), (false, true), (false, false)] {
         let _ = std::fs::remove_dir_all(dir);
         std::fs::create_dir_all(dir).unwrap();
         std::fs::write(dir.join("victim"), "the lab").unwrap();
@@ -1549,6 +1710,9 @@ fn no_file_is_emptied_moved_or_made_even_without_landlock() {
         let mut args = vec!["--case", "cube-subdivide-1"];
         if !landlock {
             args.push("--without-landlock");
+        }
+        if !pid_namespace {
+            args.push("--without-pid-namespace");
         }
         let g = grade_as_user("wipe-files", &args);
         assert_no_flip_verdict(&g);

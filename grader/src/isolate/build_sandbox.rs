@@ -27,9 +27,12 @@
 //!   home, not `/proc` (so not `/proc/self/environ`), not other submissions;
 //! - an environment of exactly [`ENV_NAMES`], every value under the target
 //!   folder or the toolchain: nothing of the TA's.
+//!
+//! The memory cap is told from how a compiler process ended (a wrapper
+//! around rustc notes a `SIGABRT` or `SIGKILL`), never from its output.
 
 use std::ffi::{CString, OsStr, OsString};
-use std::io::{Read, Write};
+use std::io::Read;
 use std::os::unix::ffi::OsStrExt;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -178,6 +181,8 @@ impl Build {
     pub fn cargo_args(&self) -> Vec<OsString> {
         // A JSON string is a valid TOML basic string.
         let vendor = serde_json::to_string(&self.vendor.to_string_lossy()).expect("JSON");
+        let wrapper =
+            serde_json::to_string(&self.target.join(WRAPPER).to_string_lossy()).expect("JSON");
         [
             "build",
             "--offline",
@@ -194,9 +199,11 @@ impl Build {
         ]
         .iter()
         .map(OsString::from)
-        .chain(std::iter::once(OsString::from(format!(
-            "source.meshlab-vendored.directory={vendor}"
-        ))))
+        .chain([
+            OsString::from(format!("source.meshlab-vendored.directory={vendor}")),
+            "--config".into(),
+            format!("build.rustc-wrapper={wrapper}").into(),
+        ])
         .collect()
     }
 }
@@ -379,16 +386,61 @@ pub fn launch_if_asked() {
     std::process::exit(code);
 }
 
-/// Lines a compiler process prints when it hits the memory cap (rustc's
-/// own words, the allocator's, LLVM's, the linker's).
-const MEMORY_MARKERS: [&str; 6] = [
-    "out of memory",
-    "more memory than available",
-    "memory allocation of",
-    "Cannot allocate memory",
-    "std::bad_alloc",
-    "failed to allocate",
-];
+/// The compiler wrapper's name in the target folder (cargo's
+/// `build.rustc-wrapper`).
+const WRAPPER: &str = "meshlab-rustc-wrapper";
+
+/// Where the wrapper notes each compiler process a signal ended (its shell
+/// status, 128 + the signal), one a line.
+const SIGNALS: &str = "meshlab-compiler-signals";
+
+/// The wrapper: runs one compiler process and notes whether a signal ended
+/// it. A compiler that reaches the memory cap aborts (`SIGABRT`: an
+/// allocation failed under `RLIMIT_AS`; rustc's and LLVM's handlers both
+/// abort), or the kernel's OOM killer ends it (`SIGKILL`). No student code
+/// runs in the build (no build script or macro of its own), and what it
+/// makes the compiler print cannot end the compiler by a signal: so unlike
+/// the compiler's words ("memory allocation of N bytes failed", which
+/// `compile_error!` prints as well), this cannot be forged. rustc itself
+/// never exits with a status above 128.
+const WRAPPER_SCRIPT: &str = "#!/bin/sh
+# Written by the grader's build launcher: runs one compiler process and
+# notes, for the launcher, the status of one a signal ended.
+\"$@\"
+status=$?
+if [ \"$status\" -gt 128 ]; then
+    echo \"$status\" >> \"${0%/*}/meshlab-compiler-signals\"
+fi
+exit \"$status\"
+";
+
+/// Writes the wrapper into the target folder (executable by the build's
+/// user, who may be `nobody`) and clears the notes of an earlier build.
+fn install_wrapper(target: &Path) -> Result<(), String> {
+    use std::os::unix::fs::PermissionsExt;
+    let path = target.join(WRAPPER);
+    let fail = |e: std::io::Error| format!("{}: {e}", path.display());
+    // Replaced, not rewritten in place: a build never sees half of it.
+    let fresh = target.join(format!("{WRAPPER}.new"));
+    std::fs::write(&fresh, WRAPPER_SCRIPT).map_err(fail)?;
+    std::fs::set_permissions(&fresh, std::fs::Permissions::from_mode(0o755)).map_err(fail)?;
+    std::fs::rename(&fresh, &path).map_err(fail)?;
+    match std::fs::remove_file(target.join(SIGNALS)) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(fail(e)),
+        _ => Ok(()),
+    }
+}
+
+/// Whether the wrapper saw a compiler process end by `SIGABRT` or
+/// `SIGKILL`: the memory cap.
+fn compiler_hit_memory_cap(target: &Path) -> bool {
+    let notes = std::fs::read_to_string(target.join(SIGNALS)).unwrap_or_default();
+    notes.lines().any(|l| {
+        l.trim()
+            .parse::<i32>()
+            .is_ok_and(|s| s == 128 + libc::SIGABRT || s == 128 + libc::SIGKILL)
+    })
+}
 
 fn last_error() -> String {
     std::io::Error::last_os_error().to_string()
@@ -420,6 +472,9 @@ fn supervise(build: &Build) -> i32 {
             return fail(report, format!("{}: {e}", build.target.join(dir).display()));
         }
     }
+    if let Err(e) = install_wrapper(&build.target) {
+        return fail(report, e);
+    }
     // Everything prepared before the fork: the child allocates nothing it
     // can avoid between fork and exec.
     let cargo = build.sysroot.join("bin/cargo");
@@ -441,7 +496,7 @@ fn supervise(build: &Build) -> i32 {
     let lab = c(build.lab.as_os_str());
     // The child tells how it locked itself in on `status` (close-on-exec:
     // end of file means cargo started); its standard error comes through
-    // `errors`, read here for the memory cap's messages and passed on.
+    // `errors`, passed on.
     let (status_r, status_w) = match pipe() {
         Ok(p) => p,
         Err(e) => return fail(report, e),
@@ -539,7 +594,8 @@ fn supervise(build: &Build) -> i32 {
         std::thread::sleep(Duration::from_millis(20));
     }
     sweep(pid);
-    let saw_memory = reader.join().unwrap_or(false);
+    let _ = reader.join();
+    let saw_memory = compiler_hit_memory_cap(&build.target);
     // SAFETY: a plain query about our (reaped) children.
     let peak = unsafe {
         let mut usage: libc::rusage = std::mem::zeroed();
@@ -590,28 +646,10 @@ extern "C" fn on_stop(_: libc::c_int) {
     STOP.store(true, std::sync::atomic::Ordering::Relaxed);
 }
 
-/// Copies the build's standard error to ours; whether a line named the
-/// memory cap being hit.
-fn pass_on(mut from: std::fs::File) -> bool {
-    let mut seen = false;
-    let mut pending = Vec::new();
-    let mut buf = [0u8; 8192];
-    let mut stderr = std::io::stderr();
-    loop {
-        let n = match from.read(&mut buf) {
-            Ok(0) | Err(_) => break,
-            Ok(n) => n,
-        };
-        let _ = stderr.write_all(&buf[..n]);
-        pending.extend_from_slice(&buf[..n]);
-        while let Some(end) = pending.iter().position(|b| *b == b'\n') {
-            let line = String::from_utf8_lossy(&pending[..end]).into_owned();
-            seen |= MEMORY_MARKERS.iter().any(|m| line.contains(m));
-            pending.drain(..=end);
-        }
-    }
-    let line = String::from_utf8_lossy(&pending);
-    seen || MEMORY_MARKERS.iter().any(|m| line.contains(m))
+/// Copies the build's standard error to ours. (Nothing is decided from
+/// it: the student's crate chooses what the compiler prints.)
+fn pass_on(mut from: std::fs::File) {
+    let _ = std::io::copy(&mut from, &mut std::io::stderr());
 }
 
 /// Kills the build's session and every process left to us (orphans come to

@@ -14,6 +14,12 @@
 //!   outside and waits, the namespace's init (grader code) waits for the
 //!   child, and when the case ends the kernel kills everything left in the
 //!   namespace. Elsewhere the runner's sweep of orphans is the catch.
+//! - With the PID namespace, a mount namespace whose root is a fresh,
+//!   read-only tmpfs holding only the program (at `/child`), the library
+//!   folders (bound read-only) and the case's own `/proc`: Landlock guards
+//!   opening, not `stat`, so without it the child could tell which paths
+//!   exist (`fixtures/hidden`, a hidden case's name). Where the kernel
+//!   refuses a step, the machine's tree stays, and the status says so.
 //! - Landlock (best ABI the kernel offers, up to 6): no file may be read,
 //!   written or executed except the child program, the system's shared
 //!   libraries (read and map) and its own `/proc/self` (read); no TCP; no signals to, and no abstract
@@ -52,6 +58,10 @@ pub const LAUNCH_FAILED: i32 = 97;
 /// five and the loader's, with room to spare, but too few pipes to buffer
 /// much kernel memory (at most 1 MiB each).
 const OPEN_FILES: u64 = 64;
+
+/// The most processes and threads the child's user may have
+/// (`RLIMIT_NPROC`, where it counts only the case's).
+const PROCESSES: u64 = 512;
 
 /// The user a root grader drops to.
 const NOBODY: u32 = 65534;
@@ -585,6 +595,278 @@ fn split_for_namespace() -> Result<(), String> {
     Ok(())
 }
 
+/// Where the child program is in its empty root: a name that says nothing
+/// of the lab's folder.
+const ROOTED_PROGRAM: &str = "/child";
+
+/// The folders (or links) the dynamic loader and the shared libraries live
+/// in, and its cache: all the child needs of the system. They hold nothing
+/// secret.
+#[cfg(target_os = "linux")]
+const SYSTEM_PATHS: [&str; 5] = [
+    "/lib",
+    "/lib64",
+    "/usr/lib",
+    "/usr/lib64",
+    "/etc/ld.so.cache",
+];
+
+#[cfg(target_os = "linux")]
+fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
+    use std::os::unix::ffi::OsStrExt;
+    std::ffi::CString::new(path.as_os_str().as_bytes())
+        .map_err(|_| format!("{} holds a NUL byte", path.display()))
+}
+
+/// `mount(2)` with Rust arguments; `None` for a null pointer.
+#[cfg(target_os = "linux")]
+fn mount(
+    source: Option<&Path>,
+    target: &Path,
+    fstype: Option<&str>,
+    flags: libc::c_ulong,
+    data: Option<&str>,
+) -> Result<(), String> {
+    let source = source.map(cpath).transpose()?;
+    let target_c = cpath(target)?;
+    let fstype = fstype.map(|f| cpath(Path::new(f))).transpose()?;
+    let data = data.map(|d| cpath(Path::new(d))).transpose()?;
+    let ptr = |c: &Option<std::ffi::CString>| c.as_ref().map_or(std::ptr::null(), |c| c.as_ptr());
+    // SAFETY: C strings (or null) that outlive the call.
+    let r = unsafe {
+        libc::mount(
+            ptr(&source),
+            target_c.as_ptr(),
+            ptr(&fstype),
+            flags,
+            ptr(&data).cast(),
+        )
+    };
+    if r != 0 {
+        return Err(os_error(&format!("mount {}", target.display())));
+    }
+    Ok(())
+}
+
+/// Binds `source` (a folder or a file) at `target`, read-only, no set-uid,
+/// no devices. The source mount's own locked flags (`noexec`, the access
+/// times) are kept: in a user namespace, a remount that drops them fails.
+#[cfg(target_os = "linux")]
+fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
+    let mut kept: libc::c_ulong = 0;
+    // SAFETY: statvfs fills our own struct.
+    unsafe {
+        let mut st: libc::statvfs = std::mem::zeroed();
+        if libc::statvfs(cpath(source)?.as_ptr(), &mut st) != 0 {
+            return Err(os_error(&format!("statvfs {}", source.display())));
+        }
+        for (st_flag, ms_flag) in [
+            (libc::ST_NOEXEC, libc::MS_NOEXEC),
+            (libc::ST_NOATIME, libc::MS_NOATIME),
+            (libc::ST_NODIRATIME, libc::MS_NODIRATIME),
+            (libc::ST_RELATIME, libc::MS_RELATIME),
+        ] {
+            if st.f_flag & st_flag != 0 {
+                kept |= ms_flag;
+            }
+        }
+    }
+    mount(
+        Some(source),
+        target,
+        None,
+        libc::MS_BIND | libc::MS_REC,
+        None,
+    )?;
+    mount(
+        None,
+        target,
+        None,
+        libc::MS_BIND
+            | libc::MS_REMOUNT
+            | libc::MS_RDONLY
+            | libc::MS_NOSUID
+            | libc::MS_NODEV
+            | kept,
+        None,
+    )
+}
+
+/// Fills the fresh root mounted at `new`: the system's library folders
+/// (bound read-only, or the same links where the system has links), the
+/// child program at [`ROOTED_PROGRAM`], and a `/proc` of the case's own
+/// PID namespace (the runtime reads `/proc/self/maps`; no other process
+/// of the machine is in it).
+#[cfg(target_os = "linux")]
+fn furnish_root(new: &Path, program_tree: &std::os::fd::OwnedFd) -> Result<(), String> {
+    use std::os::fd::AsRawFd;
+    let fail = |what: &str, e: std::io::Error| format!("{what}: {e}");
+    for host in SYSTEM_PATHS.map(Path::new) {
+        let Ok(meta) = std::fs::symlink_metadata(host) else {
+            continue;
+        };
+        let inside = new.join(host.strip_prefix("/").unwrap_or(host));
+        if let Some(parent) = inside.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| fail("mkdir", e))?;
+        }
+        if meta.file_type().is_symlink() {
+            let to = std::fs::read_link(host).map_err(|e| fail("readlink", e))?;
+            std::os::unix::fs::symlink(to, &inside).map_err(|e| fail("symlink", e))?;
+        } else if meta.is_dir() {
+            std::fs::create_dir_all(&inside).map_err(|e| fail("mkdir", e))?;
+            bind_read_only(host, &inside)?;
+        } else {
+            std::fs::File::create(&inside).map_err(|e| fail("create", e))?;
+            bind_read_only(host, &inside)?;
+        }
+    }
+    // The program, from the detached copy of its mount taken before the
+    // new root hid its folder.
+    let at = new.join(ROOTED_PROGRAM.trim_start_matches('/'));
+    std::fs::File::create(&at).map_err(|e| fail("create", e))?;
+    const MOVE_MOUNT_F_EMPTY_PATH: libc::c_uint = 0x4;
+    // SAFETY: a plain system call on our descriptor and a C string we own.
+    if unsafe {
+        libc::syscall(
+            libc::SYS_move_mount,
+            program_tree.as_raw_fd(),
+            c"".as_ptr(),
+            libc::AT_FDCWD,
+            cpath(&at)?.as_ptr(),
+            MOVE_MOUNT_F_EMPTY_PATH,
+        )
+    } != 0
+    {
+        return Err(os_error("move_mount"));
+    }
+    mount(
+        None,
+        &at,
+        None,
+        libc::MS_BIND | libc::MS_REMOUNT | libc::MS_RDONLY | libc::MS_NOSUID | libc::MS_NODEV,
+        None,
+    )?;
+    let proc = new.join("proc");
+    std::fs::create_dir(&proc).map_err(|e| fail("mkdir", e))?;
+    mount(
+        Some(Path::new("proc")),
+        &proc,
+        Some("proc"),
+        libc::MS_NOSUID | libc::MS_NODEV | libc::MS_NOEXEC,
+        None,
+    )
+}
+
+/// A detached mount of `program`'s file alone (`open_tree`), taken by its
+/// path in this mount namespace, after checking the path still names the
+/// same file. `None` where the kernel has no `open_tree` (before 5.2).
+#[cfg(target_os = "linux")]
+fn program_mount(program: &std::fs::File) -> Option<std::os::fd::OwnedFd> {
+    use std::os::fd::{AsRawFd, FromRawFd};
+    use std::os::unix::fs::MetadataExt;
+    let path = std::fs::read_link(format!("/proc/self/fd/{}", program.as_raw_fd())).ok()?;
+    const OPEN_TREE_CLONE: libc::c_uint = 1;
+    // SAFETY: a plain system call on a C string we own; the descriptor it
+    // returns is ours.
+    let tree = unsafe {
+        let fd = libc::syscall(
+            libc::SYS_open_tree,
+            libc::AT_FDCWD,
+            cpath(&path).ok()?.as_ptr(),
+            OPEN_TREE_CLONE | libc::O_CLOEXEC as libc::c_uint,
+        );
+        if fd < 0 {
+            return None;
+        }
+        std::os::fd::OwnedFd::from_raw_fd(fd as i32)
+    };
+    let same =
+        |a: &std::fs::Metadata, b: &std::fs::Metadata| a.dev() == b.dev() && a.ino() == b.ino();
+    let mounted = std::fs::File::from(tree.try_clone().ok()?)
+        .metadata()
+        .ok()?;
+    same(&mounted, &program.metadata().ok()?).then_some(tree)
+}
+
+/// Gives this process (the case's child-to-be, in its PID namespace, still
+/// privileged there) a mount namespace whose root is a fresh, empty tmpfs
+/// holding only what [`furnish_root`] puts in it: `stat` on any other path
+/// (the lab, `fixtures/hidden`, `/tmp`, the TA's home) finds nothing.
+/// Returns the program opened at its new path, or `None` where the kernel
+/// refuses a step before the switch (today's protections then stand, and
+/// the protections line says the machine's files are visible). A failure
+/// after the switch is an error: the root would be half made.
+#[cfg(target_os = "linux")]
+fn empty_root(program: &std::fs::File) -> Result<Option<std::fs::File>, String> {
+    // SAFETY: a plain system call; this process has one thread.
+    if unsafe { libc::unshare(libc::CLONE_NEWNS) } != 0 {
+        return Ok(None);
+    }
+    // Private first: nothing mounted here reaches the grader's namespace.
+    if mount(
+        None,
+        Path::new("/"),
+        None,
+        libc::MS_REC | libc::MS_PRIVATE,
+        None,
+    )
+    .is_err()
+    {
+        return Ok(None);
+    }
+    // A mount of the program alone, detached, for the new root. (A mount
+    // is bound from a path in this namespace, not from the descriptor,
+    // whose mount is the grader's namespace's; the path must still lead to
+    // the same file.)
+    let Some(program_tree) = program_mount(program) else {
+        return Ok(None);
+    };
+    // Every system has /tmp; mounting over it here hides it from no one
+    // else.
+    let new = Path::new("/tmp");
+    let made = mount(
+        Some(Path::new("tmpfs")),
+        new,
+        Some("tmpfs"),
+        libc::MS_NOSUID | libc::MS_NODEV,
+        Some("size=64k,mode=0755"),
+    )
+    .and_then(|()| furnish_root(new, &program_tree));
+    if made.is_err() {
+        return Ok(None);
+    }
+    let dot = c".";
+    // SAFETY: plain system calls on C strings we own. `pivot_root(".",
+    // ".")` stacks the old root on the new one; detaching it leaves only
+    // the new.
+    unsafe {
+        if libc::chdir(cpath(new)?.as_ptr()) != 0
+            || libc::syscall(libc::SYS_pivot_root, dot.as_ptr(), dot.as_ptr()) != 0
+        {
+            libc::chdir(c"/".as_ptr());
+            return Ok(None);
+        }
+        if libc::umount2(dot.as_ptr(), libc::MNT_DETACH) != 0 || libc::chdir(c"/".as_ptr()) != 0 {
+            return Err(os_error("cannot let go of the old root"));
+        }
+    }
+    mount(
+        None,
+        Path::new("/"),
+        None,
+        libc::MS_BIND | libc::MS_REMOUNT | libc::MS_RDONLY | libc::MS_NOSUID | libc::MS_NODEV,
+        None,
+    )?;
+    std::fs::File::open(ROOTED_PROGRAM)
+        .map(Some)
+        .map_err(|e| format!("cannot open {ROOTED_PROGRAM} in the new root: {e}"))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn empty_root(_: &std::fs::File) -> Result<Option<std::fs::File>, String> {
+    Ok(None)
+}
+
 /// `struct __user_cap_header_struct` and `__user_cap_data_struct`.
 #[cfg(target_os = "linux")]
 #[repr(C)]
@@ -666,8 +948,19 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         }
         Ok((program, namespace))
     };
+    // SAFETY: geteuid only reads.
+    let was_root = unsafe { libc::geteuid() } == 0;
     let (program, namespace) = match early() {
         Ok(p) => p,
+        Err(e) => return e,
+    };
+    // Not root, a PID namespace comes only with a user namespace.
+    let user_namespace = namespace && !was_root;
+    // The empty root needs the PID namespace (its `/proc` shows only the
+    // case's processes): without one, the machine's files stay visible.
+    let (program, rooted) = match namespace.then(|| empty_root(&program)).transpose() {
+        Ok(Some(Some(rooted))) => (rooted, true),
+        Ok(_) => (program, false),
         Err(e) => return e,
     };
     let setup = || -> Result<String, String> {
@@ -691,9 +984,14 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
                     .into(),
             );
         }
-        if dropped {
-            // Binds only a user other than root: caps a fork bomb.
-            set_limit(libc::RLIMIT_NPROC, 512)?;
+        // Caps a thread bomb. It binds only a user other than root, and
+        // counts every process of the user: for `nobody` (dropped to) that
+        // is the case's own; for a grader run by a TA, only inside the
+        // user namespace, where the kernel counts the namespace's own
+        // processes (Linux 5.14 on) and the TA's others not at all.
+        // Elsewhere it would count the TA's whole session: not set.
+        if dropped || user_namespace {
+            set_limit(libc::RLIMIT_NPROC, PROCESSES)?;
         }
         drop_capabilities()?;
         // Set after dropping privileges, which clears the parent-death
@@ -710,10 +1008,12 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
         let filtered = crate::isolate::seccomp::apply()?;
         Ok(format!(
-            "landlock={abi} memory={} user={} group=own session=own pidns={} caps=0 seccomp={}",
+            "landlock={abi} memory={} user={} group=own session=own pidns={} root={} caps=0 \
+             seccomp={}",
             limits.memory,
             if dropped { "nobody" } else { "same" },
             u8::from(namespace),
+            if rooted { "empty" } else { "host" },
             u8::from(filtered)
         ))
     };
@@ -745,7 +1045,14 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         use std::os::unix::ffi::OsStrExt;
         std::ffi::CString::new(s.as_bytes()).unwrap_or_default()
     };
-    let argv: Vec<std::ffi::CString> = std::iter::once(child.as_os_str())
+    // In the empty root the program's own name: the lab's path is not
+    // even a name to the child.
+    let name = if rooted {
+        std::ffi::OsStr::new(ROOTED_PROGRAM)
+    } else {
+        child.as_os_str()
+    };
+    let argv: Vec<std::ffi::CString> = std::iter::once(name)
         .chain(child_args.iter().map(|a| a.as_os_str()))
         .map(cstr)
         .collect();
@@ -798,6 +1105,10 @@ pub fn describe_status(status: &str) -> String {
         "1" => ", own PID namespace (nothing outlives the case)",
         _ => ", orphans swept (no PID namespace here)",
     };
+    let root = match field("root") {
+        "empty" => ", empty root (no other file even seen to exist)",
+        _ => ", machine's files seen to exist (no mount namespace here)",
+    };
     let user = match field("user") {
         "nobody" => ", user nobody",
         _ => "",
@@ -819,7 +1130,7 @@ pub fn describe_status(status: &str) -> String {
         ""
     };
     format!(
-        "protections: {landlock}, {memory}, own process group{session}{pids}{user}{caps}\
+        "protections: {landlock}, {memory}, own process group{session}{pids}{root}{user}{caps}\
          {filter}{grader}"
     )
 }
@@ -838,7 +1149,8 @@ mod tests {
     #[test]
     fn the_status_line_names_each_protection() {
         let line = describe_status(
-            "landlock=6 memory=2147483648 user=nobody group=own session=own pidns=1 caps=0 seccomp=1",
+            "landlock=6 memory=2147483648 user=nobody group=own session=own pidns=1 root=empty \
+             caps=0 seccomp=1",
         );
         let grader = if crate::isolate::runner::grader_not_dumpable() {
             ", grader not dumpable"
@@ -850,7 +1162,8 @@ mod tests {
             format!(
                 "protections: Landlock ABI 6 (no files, no network, no signals out), \
                  memory cap 2 GiB, own process group, own session (no terminal), \
-                 own PID namespace (nothing outlives the case), user nobody, no capabilities, \
+                 own PID namespace (nothing outlives the case), \
+                 empty root (no other file even seen to exist), user nobody, no capabilities, \
                  seccomp (no new processes, no sockets, no IPC, no reaching other processes, \
                  no terminal input, no file watches){grader}"
             )
@@ -862,6 +1175,10 @@ mod tests {
             "{off}"
         );
         assert!(!off.contains("nobody"), "{off}");
+        assert!(
+            off.contains("machine's files seen to exist (no mount namespace here)"),
+            "{off}"
+        );
     }
 
     #[test]

@@ -807,7 +807,9 @@ fn grader_pid() -> Option<i32> {
         }
         pid = ppid_of(&pid.to_string())?;
     }
-    (pid > 0).then_some(pid)
+    // Never PID 1: that is the machine's init, or the launcher's own in a
+    // PID namespace (grader code holding nothing), not the grader.
+    (pid > 1).then_some(pid)
 }
 
 /// Runs `f` on the grader's pid, or fails as a call on a process out of
@@ -1571,6 +1573,26 @@ pub fn probes(mesh: &mut Mesh) {
         found
             .iter()
             .map(|f| String::from_utf8_lossy(f).into_owned())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    // Paths known without looking: the lab's own (compiled in), the
+    // machine's usual folders.
+    let known = [
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/hidden"),
+        env!("CARGO_MANIFEST_DIR"),
+        "/tmp",
+        "/etc/passwd",
+        "/root",
+        "/home",
+        "/usr/bin",
+    ];
+    println!(
+        "attack: known paths seen by stat: {}",
+        known
+            .iter()
+            .filter(|p| std::fs::symlink_metadata(p).is_ok())
+            .copied()
             .collect::<Vec<_>>()
             .join(", ")
     );
