@@ -31,6 +31,7 @@ pub mod lookup;
 pub mod mutants;
 pub mod overview;
 pub mod platforms;
+pub mod roster;
 pub mod similarity;
 pub mod solution;
 pub mod tokens;

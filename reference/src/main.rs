@@ -171,44 +171,10 @@ enum Command {
     },
     /// Grade every entry of SUBMISSIONS (NAME.rs, or a folder holding lib.rs
     /// or the workspace), hidden cases included: writes NAME.txt (short),
-    /// NAME.log (full), NAME.results.json (Gradescope's format) and
-    /// summary.csv. Every build is locked in (see the TA guide).
-    Class {
-        submissions: PathBuf,
-        /// Where the reports go.
-        #[arg(long, value_name = "DIR")]
-        out: PathBuf,
-        /// Keep the builds (target/ and vendor/) in DIR, outside the lab, to
-        /// reuse the compiled dependencies next time; by default a new
-        /// private temporary folder, removed at the end.
-        #[arg(long, value_name = "DIR")]
-        build_dir: Option<PathBuf>,
-        /// Seconds each case may run.
-        #[arg(long, default_value_t = 5.0)]
-        timeout: f64,
-        /// Seconds one submission's grading may take, all cases together.
-        #[arg(long, default_value_t = 300.0)]
-        budget: f64,
-        /// Count the bonus cases.
-        #[arg(long)]
-        bonus: bool,
-        /// Grade on the fixtures alone, without each submission's fresh
-        /// cases (random meshes drawn from a seed per submission).
-        #[arg(long)]
-        no_fresh: bool,
-        /// No progress lines.
-        #[arg(short, long)]
-        quiet: bool,
-        /// Regrade only these submissions (row names) and merge their rows
-        /// into the summary already in --out.
-        #[arg(long, value_name = "NAME", num_args = 1..)]
-        only: Vec<String>,
-        /// Submissions are git repositories (one per student): grade each
-        /// one's last commit before DATE ("2026-12-01 23:59 +0100"), read
-        /// out without checking anything out; commits.csv names them.
-        #[arg(long, value_name = "DATE")]
-        before: Option<String>,
-    },
+    /// NAME.log (full), NAME.results.json (Gradescope's format),
+    /// summary.csv, canvas.csv and overview.html. Every build is locked in
+    /// (see the TA guide).
+    Class(reference::class::ClassArgs),
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
     /// lab/ (the lab with hidden cases, without the solution). Zip DIR's
     /// contents and upload.
@@ -897,57 +863,7 @@ fn run(command: Command) -> Result<ExitCode, String> {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Command::Class {
-            submissions,
-            out,
-            build_dir,
-            timeout,
-            budget,
-            bonus,
-            no_fresh,
-            quiet,
-            only,
-            before,
-        } => {
-            for (value, option) in [(budget, "--budget"), (timeout, "--timeout")] {
-                if !(value > 0.0 && value <= 86_400.0) {
-                    return Err(format!(
-                        "{option} must be a number of seconds, above 0 and at most a day"
-                    ));
-                }
-            }
-            // Absolute: cargo runs in the scratch copy, not here.
-            let here = std::env::current_dir().map_err(|e| e.to_string())?;
-            let options = reference::class::Options {
-                timeout,
-                budget,
-                bonus,
-                build_dir: build_dir.map(|d| here.join(d)),
-                // This program: its main starts the build launcher.
-                launcher: std::env::current_exe().map_err(|e| e.to_string())?,
-                build_memory: grader::isolate::build_sandbox::DEFAULT_MEMORY,
-                build_seconds: None,
-                fresh: !no_fresh,
-                progress: !quiet,
-                grader_args: Vec::new(),
-                landlock: true,
-                only,
-                before,
-            };
-            let rows = reference::class::grade_class(&lab_root(), &submissions, &out, &options)?;
-            for r in &rows {
-                println!(
-                    "{:<24} {:>5} / {:<5} {:<16} {}",
-                    r.name, r.score, r.max, r.status, r.first_failure
-                );
-            }
-            println!(
-                "wrote {} reports and {}",
-                rows.len(),
-                out.join("summary.csv").display()
-            );
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Class(args) => reference::class::run(args),
         Command::Classroom50 { dir } => {
             reference::platforms::classroom50(&lab_root(), &dir)?;
             println!(
