@@ -668,8 +668,9 @@ pub fn grade_class(
     if options.progress && to_grade > 0 {
         let wall = started.elapsed().as_secs_f64();
         eprintln!(
-            "graded {to_grade} files in {wall:.1} s with {jobs} job(s) ({:.1} s a file; their own \
+            "graded {to_grade} files in {wall:.1} s with {} job(s) ({:.1} s a file; their own \
              times add up to {own:.1} s)",
+            workers.len(),
             wall / to_grade as f64
         );
     }
@@ -925,6 +926,18 @@ fn prepare_workers(
     // each student's crate must be built where no other student's is. The
     // dependencies, compiled once above, are copied into the others'.
     let seconds = options.build_seconds.unwrap_or(options.budget.max(60.0));
+    // Without Landlock nothing keeps one build out of another's copy of the
+    // lab or target folder (as nobody, the target folders are all
+    // nobody's): one at a time, then.
+    let jobs = if warm.report.landlock == 0 && jobs > 1 {
+        eprintln!(
+            "without Landlock the builds cannot be kept apart from each other: grading one \
+             submission at a time (-j {jobs} ignored)"
+        );
+        1
+    } else {
+        jobs
+    };
     let mut workers = vec![(
         build(seconds, logs.join("build.status"), &sysroot, drop_user),
         exe.clone(),
