@@ -477,6 +477,12 @@ pub fn grade_class(
             ));
         }
     }
+    // Read first: a roster that cannot be joined is refused before an
+    // hour of grading, not after.
+    let roster = match &options.roster {
+        Some(path) => Some(crate::roster::read(path)?),
+        None => None,
+    };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // Outside the lab (a copy may not land inside what it copies), under
@@ -712,10 +718,6 @@ pub fn grade_class(
             all.push(r.clone());
         }
     }
-    let roster = match &options.roster {
-        Some(path) => Some(crate::roster::read(path)?),
-        None => None,
-    };
     if let Some(roster) = &roster {
         join_roster(&mut all, roster, counts);
     }

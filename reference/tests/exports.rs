@@ -2078,3 +2078,46 @@ fn a_class_of_forty_resumes_after_a_kill_merges_a_regrade_and_imports_cleanly() 
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A roster that cannot be joined is refused at once, by name, before any
+/// build: no backtrace, a non-zero exit.
+#[test]
+fn a_bad_roster_is_refused_before_grading() {
+    let dir = scratch("class-bad-roster");
+    write(&dir.join("submissions/ann.rs"), &stubs());
+    for (roster, says) in [
+        ("Name,Grade\nAnn,3\n", "no column to join submissions by"),
+        ("Name,Email\nAnn,\n", "row 2 (Ann) has no id and no e-mail"),
+        ("Name,Email\n\"Ann,a@b\n", "never ends"),
+    ] {
+        write(&dir.join("roster.csv"), roster);
+        let start = Instant::now();
+        let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+            .arg("class")
+            .arg(dir.join("submissions"))
+            .arg("--out")
+            .arg(dir.join("out"))
+            .arg("--roster")
+            .arg(dir.join("roster.csv"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("roster.csv: ") && err.contains(says), "{err}");
+        assert!(
+            !err.contains("panicked") && !err.contains("building the lab"),
+            "{err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(20));
+    }
+    let missing = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .arg("class")
+        .arg(dir.join("submissions"))
+        .args(["--out", "/nonexistent-out", "--roster", "/nonexistent.csv"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert_eq!(missing.status.code(), Some(2), "{err}");
+    assert!(err.contains("/nonexistent.csv: No such file"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
