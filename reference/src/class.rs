@@ -112,6 +112,9 @@ pub struct Row {
     /// Every case the grader ran and whether it passed (for the overview's
     /// pass rates); empty when nothing was graded.
     pub cases: Vec<crate::overview::CaseResult>,
+    /// The student whose identical file was graded for this row (a file
+    /// is graded once however many submit it).
+    pub same_as: Option<String>,
 }
 
 /// How to grade a class.
@@ -152,6 +155,126 @@ pub struct Options {
     /// before this date (anything `git rev-list --before` takes), read out
     /// without checking anything out (see [`crate::deadline`]).
     pub before: Option<String>,
+    /// Submissions graded at once, each in its own copy of the lab and its
+    /// own target folder (the dependencies compiled once, then copied).
+    pub jobs: usize,
+    /// Grade every submission again, even one whose finished result in the
+    /// reports folder is for the same file and settings.
+    pub regrade: bool,
+    /// The class list to join the rows with (see [`crate::roster`]).
+    pub roster: Option<PathBuf>,
+    /// The assignment's column in `canvas.csv`.
+    pub assignment: String,
+}
+
+/// `reference class`: its options, each a field of [`Options`] or of the
+/// command line only.
+#[derive(clap::Args, Debug)]
+pub struct ClassArgs {
+    pub submissions: PathBuf,
+    /// Where the reports go.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Keep the builds (target/ and vendor/) in DIR, outside the lab, to
+    /// reuse the compiled dependencies next time; by default a new
+    /// private temporary folder, removed at the end.
+    #[arg(long, value_name = "DIR")]
+    pub build_dir: Option<PathBuf>,
+    /// Seconds each case may run.
+    #[arg(long, default_value_t = 5.0)]
+    pub timeout: f64,
+    /// Seconds one submission's grading may take, all cases together.
+    #[arg(long, default_value_t = 300.0)]
+    pub budget: f64,
+    /// Count the bonus cases.
+    #[arg(long)]
+    pub bonus: bool,
+    /// Grade on the fixtures alone, without each submission's fresh
+    /// cases (random meshes drawn from a seed per submission).
+    #[arg(long)]
+    pub no_fresh: bool,
+    /// No progress lines.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Regrade only these submissions (row names) and merge their rows
+    /// into the summary already in --out.
+    #[arg(long, value_name = "NAME", num_args = 1..)]
+    pub only: Vec<String>,
+    /// Submissions are git repositories (one per student): grade each
+    /// one's last commit before DATE ("2026-12-01 23:59 +0100"), read
+    /// out without checking anything out; commits.csv names them.
+    #[arg(long, value_name = "DATE")]
+    pub before: Option<String>,
+    /// Grade N submissions at once (each still built and run alone, in
+    /// its own copy of the lab and target folder).
+    #[arg(short, long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u16).range(1..=64))]
+    pub jobs: u16,
+    /// Grade every submission again: by default a submission whose
+    /// finished result in --out is for the same file and settings keeps it
+    /// (an interrupted run resumes where it stopped).
+    #[arg(long)]
+    pub regrade: bool,
+    /// The class list (CSV with a header): rows join by student id or
+    /// e-mail (see the TA guide for the columns read); students without a
+    /// submission get 0, submissions of no roster student are listed.
+    #[arg(long, value_name = "FILE.csv")]
+    pub roster: Option<PathBuf>,
+    /// The assignment's column in canvas.csv ("Mesh lab (1234)" to fill an
+    /// existing Canvas assignment, 1234 its id).
+    #[arg(long, value_name = "NAME", default_value = "Mesh lab")]
+    pub assignment: String,
+}
+
+/// Runs `reference class`.
+pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
+    for (value, option) in [(args.budget, "--budget"), (args.timeout, "--timeout")] {
+        if !(value > 0.0 && value <= 86_400.0) {
+            return Err(format!(
+                "{option} must be a number of seconds, above 0 and at most a day"
+            ));
+        }
+    }
+    // Absolute: cargo runs in the scratch copy, not here.
+    let here = std::env::current_dir().map_err(|e| e.to_string())?;
+    let options = Options {
+        timeout: args.timeout,
+        budget: args.budget,
+        bonus: args.bonus,
+        build_dir: args.build_dir.map(|d| here.join(d)),
+        // This program: its main starts the build launcher.
+        launcher: std::env::current_exe().map_err(|e| e.to_string())?,
+        build_memory: grader::isolate::build_sandbox::DEFAULT_MEMORY,
+        build_seconds: None,
+        fresh: !args.no_fresh,
+        progress: !args.quiet,
+        grader_args: Vec::new(),
+        landlock: true,
+        only: args.only,
+        before: args.before,
+        jobs: args.jobs.into(),
+        regrade: args.regrade,
+        roster: args.roster.map(|r| here.join(r)),
+        assignment: args.assignment,
+    };
+    let out = &args.out;
+    let rows = grade_class(&crate::lab_root(), &args.submissions, out, &options)?;
+    for r in &rows {
+        println!(
+            "{:<24} {:>5} / {:<5} {:<16} {}",
+            quoted::one_line(&r.name),
+            r.score,
+            r.max,
+            r.status,
+            quoted::one_line(&r.first_failure)
+        );
+    }
+    println!(
+        "wrote {} rows into {} (summary.csv, canvas.csv, overview.html)",
+        rows.len(),
+        out.display()
+    );
+    Ok(std::process::ExitCode::SUCCESS)
 }
 
 /// A name no one can guess: 128 bits from std's `RandomState`, whose keys
@@ -234,14 +357,7 @@ fn for_nobody(
         std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o711))
             .map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    let chown = Command::new("chown")
-        .args(["-R", &format!("{uid}:{uid}")])
-        .arg(target)
-        .status()
-        .map_err(|e| format!("cannot run chown: {e}"))?;
-    if !chown.success() {
-        return Err(format!("chown -R nobody {} failed", target.display()));
-    }
+    to_nobody(target)?;
     let runs = |root: &Path| {
         Command::new(root.join("bin/cargo"))
             .arg("-V")
@@ -297,6 +413,20 @@ fn for_nobody(
     Ok(copy)
 }
 
+/// Makes `target` (a build's target folder) user nobody's.
+fn to_nobody(target: &Path) -> Result<(), String> {
+    let uid = autograde::process::nobody_uid().ok_or("there is no user nobody to build as")?;
+    let chown = Command::new("chown")
+        .args(["-R", &format!("{uid}:{uid}")])
+        .arg(target)
+        .status()
+        .map_err(|e| format!("cannot run chown: {e}"))?;
+    if !chown.success() {
+        return Err(format!("chown -R nobody {} failed", target.display()));
+    }
+    Ok(())
+}
+
 /// Removes what the previous submission's build left in the shared target
 /// folder (its compiled crate, its incremental cache, the programs linked
 /// with it), so that the next build, which may read that folder, finds
@@ -347,6 +477,12 @@ pub fn grade_class(
             ));
         }
     }
+    // Read first: a roster that cannot be joined is refused before an
+    // hour of grading, not after.
+    let roster = match &options.roster {
+        Some(path) => Some(crate::roster::read(path)?),
+        None => None,
+    };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // Outside the lab (a copy may not land inside what it copies), under
@@ -357,7 +493,6 @@ pub fn grade_class(
     autograde::private_dir(&scratch)?;
     autograde::private_dir(&fixtures)?;
     let template = scratch.join("template");
-    let work = scratch.join("work");
     handout::copy_lab(root, &template, Purpose::Grading)?;
     let mut commits = String::new();
     if let Some(before) = &options.before {
@@ -395,6 +530,252 @@ pub fn grade_class(
             counts[k] += n;
         }
     }
+    // What a finished result is for: the file's bytes and every setting
+    // that changes a grade. A result in `out` with the same key is reused
+    // (a run that was interrupted resumes; an identical file is graded once).
+    let settings = settings_key(root, options);
+    let keys: Vec<Option<String>> = students
+        .iter()
+        .map(|s| {
+            let mut all = settings.clone().into_bytes();
+            match &s.lib_rs {
+                Ok(path) => all.extend_from_slice(&std::fs::read(path).ok()?),
+                // Not graded, for a reason that is part of the result.
+                Err(why) => all.extend_from_slice(format!("no file: {why}").as_bytes()),
+            }
+            Some(sha256::sha256_hex(&all))
+        })
+        .collect();
+    let mut done: Vec<Option<Row>> = vec![None; students.len()];
+    let mut resumed = 0;
+    if options.only.is_empty() && !options.regrade {
+        for (i, s) in students.iter().enumerate() {
+            if let (Some(key), Some((row, row_key))) = (&keys[i], read_row(&out, &s.name)) {
+                if *key == row_key {
+                    done[i] = Some(row);
+                    resumed += 1;
+                }
+            }
+        }
+    }
+    // Each distinct file is graded once: the first student with it, unless
+    // a finished result for it is already there.
+    let mut first_with: std::collections::HashMap<&str, usize> = Default::default();
+    let mut copies: Vec<(usize, usize)> = Vec::new();
+    let mut queue: std::collections::VecDeque<usize> = Default::default();
+    for i in 0..students.len() {
+        if let (Some(key), Ok(_)) = (&keys[i], &students[i].lib_rs) {
+            if let Some(&first) = first_with.get(key.as_str()) {
+                if done[i].is_none() {
+                    copies.push((i, first));
+                }
+                continue;
+            }
+            first_with.insert(key, i);
+        }
+        if done[i].is_none() {
+            queue.push_back(i);
+        }
+    }
+    if options.progress && resumed > 0 {
+        eprintln!(
+            "resuming: {resumed} of {} already have a finished result in {} for the same file \
+             and settings (--regrade grades them again)",
+            students.len(),
+            out.display()
+        );
+    }
+    if options.progress && !copies.is_empty() {
+        eprintln!(
+            "{} submissions are identical to another one: each file is graded once",
+            copies.len()
+        );
+    }
+
+    let jobs = options.jobs.clamp(1, queue.len().max(1));
+    // Nothing to build when every result is already there.
+    let (workers, _cleanup_build) = if queue.is_empty() {
+        (Vec::new(), RemovedAtEnd(Vec::new()))
+    } else {
+        prepare_workers(root, &template, &scratch, jobs, options)?
+    };
+
+    let started = Instant::now();
+    let to_grade = queue.len();
+    let queue = std::sync::Mutex::new(queue);
+    let failed = std::sync::atomic::AtomicBool::new(false);
+    let (sender, results) = std::sync::mpsc::channel::<(usize, Result<Row, String>)>();
+    let mut error = None;
+    let mut own = 0.0;
+    std::thread::scope(|scope| {
+        for (jail, exe) in &workers {
+            let sender = sender.clone();
+            let (queue, failed, students, keys) = (&queue, &failed, &students, &keys);
+            let (template, fixtures, out) = (&template, &fixtures, &out);
+            scope.spawn(move || loop {
+                if failed.load(std::sync::atomic::Ordering::SeqCst) {
+                    break;
+                }
+                let Some(i) = queue.lock().unwrap_or_else(|p| p.into_inner()).pop_front() else {
+                    break;
+                };
+                let t0 = Instant::now();
+                let s = &students[i];
+                let row = grade_one(s, template, jail, fixtures, out, exe, counts, options)
+                    .and_then(|row| {
+                        let row = Row {
+                            seconds: t0.elapsed().as_secs_f64(),
+                            ..row
+                        };
+                        // Last, and whole: a result file means its reports
+                        // are all there.
+                        write_row(out, &row, keys[i].as_deref())?;
+                        Ok(row)
+                    });
+                if row.is_err() {
+                    failed.store(true, std::sync::atomic::Ordering::SeqCst);
+                }
+                if sender.send((i, row)).is_err() {
+                    break;
+                }
+            });
+        }
+        drop(sender);
+        let mut finished = 0;
+        for (i, row) in results {
+            match row {
+                Ok(row) => {
+                    finished += 1;
+                    own += row.seconds;
+                    if options.progress {
+                        let wall = started.elapsed().as_secs_f64();
+                        let left = wall / finished as f64 * (to_grade - finished) as f64;
+                        eprintln!(
+                            "[{finished:>3}/{to_grade}] {:<20} {:>5}/{:<3} {:<16} {:>5.1} s  \
+                             (about {left:.0} s left)",
+                            quoted::one_line(&row.name),
+                            row.score,
+                            row.max,
+                            row.status,
+                            row.seconds,
+                        );
+                    }
+                    done[i] = Some(row);
+                }
+                Err(e) => {
+                    error.get_or_insert(e);
+                }
+            }
+        }
+    });
+    if let Some(e) = error {
+        return Err(e);
+    }
+    if options.progress && to_grade > 0 {
+        let wall = started.elapsed().as_secs_f64();
+        eprintln!(
+            "graded {to_grade} files in {wall:.1} s with {} job(s) ({:.1} s a file; their own \
+             times add up to {own:.1} s)",
+            workers.len(),
+            wall / to_grade as f64
+        );
+    }
+    // An identical file's result, under this student's name: the reports
+    // are copied (the short one says so), the row says whose was graded.
+    for (i, first) in copies {
+        let source = done[first]
+            .clone()
+            .ok_or("an identical file was not graded")?;
+        let name = &students[i].name;
+        let row = Row {
+            name: name.clone(),
+            same_as: Some(source.same_as.clone().unwrap_or(source.name.clone())),
+            seconds: 0.0,
+            ..source.clone()
+        };
+        copy_reports(&out, &source.name, name)?;
+        write_row(&out, &row, keys[i].as_deref())?;
+        done[i] = Some(row);
+    }
+    let rows: Vec<Row> = done.into_iter().flatten().collect();
+
+    // The summary, rebuilt from every student's finished result: with
+    // --only, the others' results stay as they were (their result files,
+    // or the last summary's rows for reports written before those).
+    let summary = out.join("summary.json");
+    let last = if options.only.is_empty() {
+        Vec::new()
+    } else {
+        read_rows(&summary)?
+    };
+    let mut all: Vec<Row> = Vec::new();
+    for s in &everyone {
+        if let Some(r) = rows.iter().find(|r| r.name == s.name) {
+            all.push(r.clone());
+        } else if let Some((r, _)) = read_row(&out, &s.name) {
+            all.push(r);
+        } else if let Some(r) = last.iter().find(|r| r.name == s.name) {
+            all.push(r.clone());
+        }
+    }
+    if let Some(roster) = &roster {
+        join_roster(&mut all, roster, counts);
+    }
+    all.sort_by(|a, b| a.name.cmp(&b.name));
+    let json: Vec<serde_json::Value> = all.iter().map(Row::to_json).collect();
+    write_atomically(&summary, &pretty(&serde_json::Value::Array(json)))?;
+    write_atomically(
+        &out.join("summary.csv"),
+        &summary_csv(&all, roster.as_deref()),
+    )?;
+    write_atomically(
+        &out.join("canvas.csv"),
+        &canvas_csv(&all, roster.as_deref(), &options.assignment, counts),
+    )?;
+    if options.before.is_some() {
+        std::fs::write(out.join("commits.csv"), commits).map_err(|e| e.to_string())?;
+    }
+    // Hints for the TA over the whole class (every entry of the folder,
+    // also with --only), and the page that shows the class at a glance.
+    let stubs = std::fs::read_to_string(template.join("crates/meshedit/src/lib.rs"))
+        .map_err(|e| format!("the lab's stubs: {e}"))?;
+    let pairs = similar_submissions(&everyone, &stubs);
+    std::fs::write(out.join("similarity.csv"), crate::similarity::csv(&pairs))
+        .map_err(|e| e.to_string())?;
+    let overview: Vec<crate::overview::Student> = all
+        .iter()
+        .map(|r| crate::overview::Student {
+            name: r.name.clone(),
+            score: r.score,
+            max: r.max,
+            status: r.status.clone(),
+            first_failure: r.first_failure.clone(),
+            cases: r.cases.clone(),
+            report: out
+                .join(format!("{}.txt", r.name))
+                .is_file()
+                .then(|| format!("{}.txt", r.name)),
+        })
+        .collect();
+    std::fs::write(
+        out.join("overview.html"),
+        crate::overview::page("Class overview", &overview, &pairs),
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(rows)
+}
+
+/// The workers' builds: the build folder (vendored dependencies, and the
+/// lab built once there, locked in like every build), then per worker a
+/// copy of the lab and a target folder of its own. Returns each worker's
+/// build and grader program, and the build folder's remover.
+fn prepare_workers(
+    root: &Path,
+    template: &Path,
+    scratch: &Path,
+    jobs: usize,
+    options: &Options,
+) -> Result<(Vec<(Build, PathBuf)>, RemovedAtEnd), String> {
     let build_dir = match &options.build_dir {
         Some(dir) => {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -415,6 +796,10 @@ pub fn grade_class(
             dir
         }
     };
+    // Each worker's copy of the lab, at the same place in every run, so
+    // that cargo finds the lab's own crates built (their paths are in
+    // their fingerprints); restored from the template for each student.
+    let work = build_dir.join("lab");
     let _cleanup_build = RemovedAtEnd(if options.build_dir.is_none() {
         vec![build_dir.clone()]
     } else {
@@ -425,42 +810,51 @@ pub fn grade_class(
     // The dependencies' sources, out of the TA's cargo home (which holds
     // more than sources), at a fixed place beside the target folder (their
     // path is in the compiled dependencies' fingerprints).
-    let _ = std::fs::remove_dir_all(&vendor);
-    let vendor_offline = || {
-        Command::new(handout::cargo())
-            .args(["vendor", "--locked", "--offline", "--quiet"])
-            .arg(&vendor)
-            .current_dir(&template)
-            .stdout(Stdio::null())
-            .output()
-            .map_err(|e| format!("cannot run cargo: {e}"))
-    };
-    let mut vendored = vendor_offline()?;
-    if !vendored.status.success() {
-        // Vendoring takes every platform's crates (the Windows-only ones
-        // too), which no build on this machine fetched: fetch them once, as
-        // Gradescope's setup.sh does, then vendor again.
-        if options.progress {
-            eprintln!("fetching the lab's crates for every platform once (cargo fetch)...");
-        }
-        let fetched = Command::new(handout::cargo())
-            .args(["fetch", "--locked", "--quiet"])
-            .current_dir(&template)
-            .output()
-            .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if fetched.status.success() {
-            vendored = vendor_offline()?;
-        }
+    // Vendored again only when the lock file changed: a stamp of the lock
+    // file it was vendored from, written last.
+    let lock =
+        std::fs::read(template.join("Cargo.lock")).map_err(|e| format!("Cargo.lock: {e}"))?;
+    let stamp = build_dir.join("vendor.lock");
+    if std::fs::read(&stamp).ok().as_ref() != Some(&lock) || !vendor.is_dir() {
+        let _ = std::fs::remove_file(&stamp);
+        let _ = std::fs::remove_dir_all(&vendor);
+        let vendor_offline = || {
+            Command::new(handout::cargo())
+                .args(["vendor", "--locked", "--offline", "--quiet"])
+                .arg(&vendor)
+                .current_dir(template)
+                .stdout(Stdio::null())
+                .output()
+                .map_err(|e| format!("cannot run cargo: {e}"))
+        };
+        let mut vendored = vendor_offline()?;
         if !vendored.status.success() {
-            return Err(format!(
-                "cargo vendor failed, also after `cargo fetch --locked` (which needs the \
+            // Vendoring takes every platform's crates (the Windows-only ones
+            // too), which no build on this machine fetched: fetch them once, as
+            // Gradescope's setup.sh does, then vendor again.
+            if options.progress {
+                eprintln!("fetching the lab's crates for every platform once (cargo fetch)...");
+            }
+            let fetched = Command::new(handout::cargo())
+                .args(["fetch", "--locked", "--quiet"])
+                .current_dir(template)
+                .output()
+                .map_err(|e| format!("cannot run cargo: {e}"))?;
+            if fetched.status.success() {
+                vendored = vendor_offline()?;
+            }
+            if !vendored.status.success() {
+                return Err(format!(
+                    "cargo vendor failed, also after `cargo fetch --locked` (which needs the \
                  network to crates.io once):\n{}{}",
-                String::from_utf8_lossy(&fetched.stderr),
-                String::from_utf8_lossy(&vendored.stderr)
-            ));
+                    String::from_utf8_lossy(&fetched.stderr),
+                    String::from_utf8_lossy(&vendored.stderr)
+                ));
+            }
         }
+        std::fs::write(&stamp, &lock).map_err(|e| format!("{}: {e}", stamp.display()))?;
     }
-    let mut sysroot = autograde::local::sysroot(&template)?;
+    let mut sysroot = autograde::local::sysroot(template)?;
     let mut drop_user = false;
     let build = |seconds: f64, status: PathBuf, sysroot: &Path, drop_user: bool| Build {
         lab: work.clone(),
@@ -486,7 +880,7 @@ pub fn grade_class(
         eprintln!("building the lab once (the first time takes a minute or two)...");
     }
     let _ = std::fs::remove_dir_all(&work);
-    copy_keeping_times(&template, &work)?;
+    copy_keeping_times(template, &work)?;
     let logs = scratch.join("logs");
     std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
     let warm_build = |sysroot: &Path, drop_user: bool| {
@@ -508,7 +902,7 @@ pub fn grade_class(
             // strongest, a user of its own (`nobody`, who can read only
             // what everyone may) building a private copy of the lab (the
             // hidden cases out of it, in a folder only root may enter).
-            sysroot = for_nobody(&scratch, &build_dir, &target, &sysroot)?;
+            sysroot = for_nobody(scratch, &build_dir, &target, &sysroot)?;
             drop_user = true;
             warm = warm_build(&sysroot, true)?;
             if options.progress {
@@ -529,77 +923,273 @@ pub fn grade_class(
         eprintln!("{}", warm.report.protections());
     }
 
-    let started = Instant::now();
-    let mut rows = Vec::new();
-    for (i, s) in students.iter().enumerate() {
-        let t0 = Instant::now();
-        let seconds = options.build_seconds.unwrap_or(options.budget.max(60.0));
-        let jail = build(seconds, logs.join("build.status"), &sysroot, drop_user);
-        let row = grade_one(s, &template, &jail, &fixtures, &out, &exe, counts, options)?;
-        let row = Row {
-            seconds: t0.elapsed().as_secs_f64(),
-            ..row
+    // One worker per job, each with its own copy of the lab and its own
+    // target folder: cargo locks a target folder for the whole build, and
+    // each student's crate must be built where no other student's is. The
+    // dependencies, compiled once above, are copied into the others'.
+    let seconds = options.build_seconds.unwrap_or(options.budget.max(60.0));
+    // Without Landlock nothing keeps one build out of another's copy of the
+    // lab or target folder (as nobody, the target folders are all
+    // nobody's): one at a time, then.
+    let jobs = if warm.report.landlock == 0 && jobs > 1 {
+        eprintln!(
+            "without Landlock the builds cannot be kept apart from each other: grading one \
+             submission at a time (-j {jobs} ignored)"
+        );
+        1
+    } else {
+        jobs
+    };
+    let mut workers = vec![(
+        build(seconds, logs.join("build.status"), &sysroot, drop_user),
+        exe.clone(),
+    )];
+    for k in 1..jobs {
+        let lab = build_dir.join(format!("lab-{k}"));
+        let own_target = build_dir.join(format!("target-{k}"));
+        if !own_target.is_dir() {
+            copy_dependencies(&target, &own_target)?;
+        }
+        if drop_user {
+            to_nobody(&own_target)?;
+        }
+        forget_submission(&own_target);
+        copy_keeping_times(template, &lab)?;
+        let jail = Build {
+            lab,
+            target: own_target.clone(),
+            status: logs.join(format!("warm-{k}.status")),
+            seconds: 3600.0,
+            ..build(seconds, PathBuf::new(), &sysroot, drop_user)
         };
-        if options.progress {
-            let done = i + 1;
-            let left =
-                started.elapsed().as_secs_f64() / done as f64 * (students.len() - done) as f64;
+        let warm = grade::build(&jail, &options.launcher, &logs)?;
+        if warm.report.outcome != Outcome::Built {
+            return Err(format!(
+                "the lab does not build in worker {k}'s copy ({}):\n{}",
+                warm.report.failure().unwrap_or_default(),
+                warm.log
+            ));
+        }
+        let exe = grade::programs_dir(&own_target).join(format!(
+            "{}{}",
+            grade::PROGRAMS[0],
+            std::env::consts::EXE_SUFFIX
+        ));
+        workers.push((
+            Build {
+                seconds,
+                status: logs.join(format!("build-{k}.status")),
+                ..jail
+            },
+            exe,
+        ));
+    }
+
+    Ok((workers, _cleanup_build))
+}
+
+/// The compiled dependencies of `target` into a new target folder `to`
+/// (without the incremental caches, which are the lab's crates' only), so
+/// that another worker's builds start where the first one's did.
+fn copy_dependencies(target: &Path, to: &Path) -> Result<(), String> {
+    let debug = to.join("debug");
+    std::fs::create_dir_all(&debug).map_err(|e| format!("{}: {e}", debug.display()))?;
+    let from = target.join("debug");
+    for entry in std::fs::read_dir(&from).map_err(|e| format!("{}: {e}", from.display()))? {
+        let path = entry.map_err(|e| e.to_string())?.path();
+        if path.file_name().is_some_and(|n| n == "incremental") {
+            continue;
+        }
+        let copied = Command::new("cp")
+            .args(["-a", "--reflink=auto"])
+            .arg(&path)
+            .arg(&debug)
+            .status()
+            .map_err(|e| format!("cannot run cp: {e}"))?;
+        if !copied.success() {
+            let _ = std::fs::remove_dir_all(to);
+            return Err(format!(
+                "cannot copy {} to {}",
+                path.display(),
+                debug.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Everything besides the file that decides a grade, as text: the
+/// options, this program's version and the fixtures' digests. A finished
+/// result is reused only under the same settings.
+fn settings_key(root: &Path, options: &Options) -> String {
+    let mut key = format!(
+        "reference {} timeout {} budget {} bonus {} fresh {} before {:?} args {:?}\n",
+        env!("CARGO_PKG_VERSION"),
+        options.timeout,
+        options.budget,
+        options.bonus,
+        options.fresh,
+        options.before,
+        options.grader_args
+    );
+    for group in ["lab", "bonus", "hidden"] {
+        let sums = root.join("fixtures").join(group).join("SHA256SUMS");
+        key.push_str(&std::fs::read_to_string(sums).unwrap_or_default());
+    }
+    key
+}
+
+/// `NAME.row.json`: a student's finished result and the key it was graded
+/// under.
+fn row_path(out: &Path, name: &str) -> PathBuf {
+    out.join(format!("{name}.row.json"))
+}
+
+/// A student's finished result in `out` and its key ("" when the entry had
+/// no file), if there is one that reads.
+fn read_row(out: &Path, name: &str) -> Option<(Row, String)> {
+    let text = std::fs::read_to_string(row_path(out, name)).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let row = Row::from_json(&v["row"])?;
+    (row.name == name).then(|| (row, v["key"].as_str().unwrap_or("").to_string()))
+}
+
+fn write_row(out: &Path, row: &Row, key: Option<&str>) -> Result<(), String> {
+    let v = serde_json::json!({ "key": key, "row": row.to_json() });
+    write_atomically(&row_path(out, &row.name), &pretty(&v))
+}
+
+/// Writes `path` whole or not at all (a run killed midway leaves either
+/// the old file or the new one): a file beside it, then a rename.
+fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static NEXT: AtomicUsize = AtomicUsize::new(0);
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let temporary = path.with_file_name(format!(
+        ".{name}.{}-{}.part",
+        std::process::id(),
+        NEXT.fetch_add(1, Ordering::SeqCst)
+    ));
+    std::fs::write(&temporary, text).map_err(|e| format!("{}: {e}", temporary.display()))?;
+    std::fs::rename(&temporary, path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// `from`'s reports as `to`'s, whose file is identical: the short report
+/// names `to` and says whose file was graded.
+fn copy_reports(out: &Path, from: &str, to: &str) -> Result<(), String> {
+    for ext in ["log", "results.json"] {
+        let (a, b) = (
+            out.join(format!("{from}.{ext}")),
+            out.join(format!("{to}.{ext}")),
+        );
+        std::fs::copy(&a, &b).map_err(|e| format!("{}: {e}", a.display()))?;
+    }
+    let path = out.join(format!("{from}.txt"));
+    let short = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (from_shown, to_shown) = (quoted::one_line(from), quoted::one_line(to));
+    let rest = short
+        .strip_prefix(from_shown.as_str())
+        .unwrap_or(&short)
+        .replace(&format!("{from_shown}.log"), &format!("{to_shown}.log"));
+    let (head, tail) = rest.split_once('\n').unwrap_or((&rest, ""));
+    std::fs::write(
+        out.join(format!("{to}.txt")),
+        format!(
+            "{to_shown}{head}\n  (graded once: this file is byte for byte {from_shown}'s)\n{tail}"
+        ),
+    )
+    .map_err(|e| format!("{to}.txt: {e}"))
+}
+
+/// Adds a `no submission` row for every roster student without one, and
+/// says on standard error which submissions are no roster student's and
+/// which students have two.
+fn join_roster(all: &mut Vec<Row>, roster: &[crate::roster::Student], counts: [usize; 4]) {
+    let unknown: Vec<&str> = all
+        .iter()
+        .filter(|r| !roster.iter().any(|s| s.owns(&r.name)))
+        .map(|r| r.name.as_str())
+        .collect();
+    if !unknown.is_empty() {
+        eprintln!(
+            "not in the roster ({} submissions; their rows say in_roster no, canvas.csv leaves \
+             them out): {}",
+            unknown.len(),
+            quoted::one_line(&unknown.join(", "))
+        );
+    }
+    for s in roster {
+        let theirs: Vec<&str> = all
+            .iter()
+            .filter(|r| s.owns(&r.name))
+            .map(|r| r.name.as_str())
+            .collect();
+        if theirs.len() > 1 {
             eprintln!(
-                "[{done:>3}/{}] {:<20} {:>5}/{:<3} {:<16} {:>5.1} s  (about {:.0} s left)",
-                students.len(),
-                quoted::one_line(&row.name),
-                row.score,
-                row.max,
-                row.status,
-                row.seconds,
-                left
+                "{} has {} submissions ({}): canvas.csv has the highest score",
+                quoted::one_line(&s.name),
+                theirs.len(),
+                quoted::one_line(&theirs.join(", "))
             );
         }
-        rows.push(row);
     }
-    // With --only, the other rows of the last run stay (summary.json
-    // holds them as numbers, exactly).
-    let summary = out.join("summary.json");
-    let mut all = if options.only.is_empty() {
-        Vec::new()
-    } else {
-        read_rows(&summary)?
+    let mut missing = Vec::new();
+    for s in roster {
+        if !all.iter().any(|r| s.owns(&r.name)) {
+            missing.push(Row {
+                name: s.key().to_string(),
+                score: 0.0,
+                max: counts.iter().sum::<usize>() as f64,
+                status: "no submission".into(),
+                functions: counts.map(|n| (0, n)),
+                first_failure: "no submission (in the roster, not in the submissions folder)"
+                    .into(),
+                seconds: 0.0,
+                cases: Vec::new(),
+                same_as: None,
+            });
+        }
+    }
+    all.extend(missing);
+}
+
+/// `canvas.csv` (see [`crate::roster::canvas_csv`]): with a roster, one
+/// row per roster student; without, one per row, its name as the SIS login.
+fn canvas_csv(
+    all: &[Row],
+    roster: Option<&[crate::roster::Student]>,
+    assignment: &str,
+    counts: [usize; 4],
+) -> String {
+    let max = counts.iter().sum::<usize>() as f64;
+    let own: Vec<crate::roster::Student>;
+    let students = match roster {
+        Some(r) => r,
+        None => {
+            own = all
+                .iter()
+                .map(|r| crate::roster::Student {
+                    name: r.name.clone(),
+                    sis_login_id: r.name.clone(),
+                    ids: vec![r.name.clone()],
+                    ..Default::default()
+                })
+                .collect();
+            &own
+        }
     };
-    all.retain(|r: &Row| !rows.iter().any(|n| n.name == r.name));
-    all.extend(rows.iter().cloned());
-    all.sort_by(|a, b| a.name.cmp(&b.name));
-    let json: Vec<serde_json::Value> = all.iter().map(Row::to_json).collect();
-    std::fs::write(&summary, pretty(&serde_json::Value::Array(json)))
-        .map_err(|e| format!("{}: {e}", summary.display()))?;
-    std::fs::write(out.join("summary.csv"), summary_csv(&all)).map_err(|e| e.to_string())?;
-    if options.before.is_some() {
-        std::fs::write(out.join("commits.csv"), commits).map_err(|e| e.to_string())?;
-    }
-    // Hints for the TA over the whole class (every entry of the folder,
-    // also with --only), and the page that shows the class at a glance.
-    let stubs = std::fs::read_to_string(template.join("crates/meshedit/src/lib.rs"))
-        .map_err(|e| format!("the lab's stubs: {e}"))?;
-    let pairs = similar_submissions(&everyone, &stubs);
-    std::fs::write(out.join("similarity.csv"), crate::similarity::csv(&pairs))
-        .map_err(|e| e.to_string())?;
-    let overview: Vec<crate::overview::Student> = all
+    let grades: Vec<crate::roster::Grade> = students
         .iter()
-        .map(|r| crate::overview::Student {
-            name: r.name.clone(),
-            score: r.score,
-            max: r.max,
-            status: r.status.clone(),
-            first_failure: r.first_failure.clone(),
-            cases: r.cases.clone(),
-            report: Some(format!("{}.txt", r.name)),
+        .map(|s| crate::roster::Grade {
+            student: s,
+            score: all
+                .iter()
+                .filter(|r| s.owns(&r.name))
+                .map(|r| r.score)
+                .fold(0.0, f64::max),
         })
         .collect();
-    std::fs::write(
-        out.join("overview.html"),
-        crate::overview::page("Class overview", &overview, &pairs),
-    )
-    .map_err(|e| e.to_string())?;
-    Ok(rows)
+    crate::roster::canvas_csv(assignment, max, &grades)
 }
 
 /// `--before`: each submission becomes its repository's last commit before
@@ -674,6 +1264,7 @@ impl Row {
             "first_failure": self.first_failure, "seconds": self.seconds,
             "cases": self.cases.iter().map(|c| serde_json::json!([c.name, c.function, c.passed]))
                 .collect::<Vec<_>>(),
+            "same_as": self.same_as,
         })
     }
 
@@ -703,6 +1294,7 @@ impl Row {
                     })
                 })
                 .collect(),
+            same_as: v["same_as"].as_str().map(str::to_string),
         })
     }
 }
@@ -710,12 +1302,18 @@ impl Row {
 /// `summary.csv`, for spreadsheets and gradebooks: numbers in numeric
 /// columns (points and maximum per function, the percentage), the text
 /// ones made inert (see [`quoted::csv_field`]).
-pub fn summary_csv(rows: &[Row]) -> String {
+/// With a roster, each row also says the roster's name, section and
+/// whether the student is in it (`in_roster`: `yes` or `no`).
+pub fn summary_csv(rows: &[Row], roster: Option<&[crate::roster::Student]>) -> String {
     let mut csv = String::from("student,score,max_score,percent,status");
     for stage in &STAGES {
         let _ = write!(csv, ",{0},{0}_max", stage.column);
     }
-    csv.push_str(",first_failure\n");
+    csv.push_str(",first_failure,graded_as");
+    if roster.is_some() {
+        csv.push_str(",name,section,in_roster");
+    }
+    csv.push('\n');
     for r in rows {
         let percent = if r.max > 0.0 {
             100.0 * r.score / r.max
@@ -733,7 +1331,26 @@ pub fn summary_csv(rows: &[Row]) -> String {
         for (passed, of) in r.functions {
             let _ = write!(csv, ",{passed},{of}");
         }
-        let _ = writeln!(csv, ",{}", quoted::csv_field(&r.first_failure));
+        let _ = write!(
+            csv,
+            ",{},{}",
+            quoted::csv_field(&r.first_failure),
+            quoted::csv_field(r.same_as.as_deref().unwrap_or(""))
+        );
+        if let Some(roster) = roster {
+            match roster.iter().find(|s| s.owns(&r.name)) {
+                Some(s) => {
+                    let _ = write!(
+                        csv,
+                        ",{},{},yes",
+                        quoted::csv_field(&s.name),
+                        quoted::csv_field(&s.section)
+                    );
+                }
+                None => csv.push_str(",,,no"),
+            }
+        }
+        csv.push('\n');
     }
     csv
 }
@@ -765,6 +1382,7 @@ fn grade_one(
         first_failure: String::new(),
         seconds: 0.0,
         cases: Vec::new(),
+        same_as: None,
     };
     // `why` is the student's message (its first line is the gist), `log`
     // the build's whole output.
@@ -810,7 +1428,10 @@ fn grade_one(
     forget_submission(&jail.target);
 
     // Outside the copy the student's code runs in.
-    let logs = work.with_file_name("logs");
+    let logs = work.with_file_name(format!(
+        "{}-logs",
+        work.file_name().unwrap_or_default().to_string_lossy()
+    ));
     let _ = std::fs::remove_dir_all(&logs);
     std::fs::create_dir_all(&logs).map_err(|e| e.to_string())?;
     let built = grade::build(jail, &options.launcher, &logs)?;

@@ -28,6 +28,7 @@ pub mod fresh;
 pub mod handout;
 pub mod overview;
 pub mod platforms;
+pub mod roster;
 pub mod similarity;
 pub mod solution;
 pub mod tokens;

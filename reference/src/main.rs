@@ -52,9 +52,10 @@ enum Command {
     Grade(grade::Args),
     /// Grade every entry of SUBMISSIONS (NAME.rs, or a folder holding lib.rs
     /// or the workspace), hidden cases included: writes NAME.txt (short),
-    /// NAME.log (full), NAME.results.json (Gradescope's format) and
-    /// summary.csv. Every build is locked in (see the TA guide).
-    Class(class::Args),
+    /// NAME.log (full), NAME.results.json (Gradescope's format),
+    /// summary.csv, canvas.csv and overview.html. Every build is locked in
+    /// (see the TA guide).
+    Class(reference::class::ClassArgs),
     /// Write a Gradescope autograder into DIR: setup.sh, run_autograder and
     /// lab/ (the lab with hidden cases, without the solution). Zip DIR's
     /// contents and upload.
@@ -97,7 +98,7 @@ fn main() -> ExitCode {
         Command::Fresh(args) => fresh::run(args),
         Command::Handout(args) => handout::run(args),
         Command::Grade(args) => grade::run(args),
-        Command::Class(args) => class::run(args),
+        Command::Class(args) => reference::class::run(args),
         Command::Gradescope(args) => gradescope::run(args),
         Command::Classroom50(args) => classroom50::run(args),
         Command::Prairielearn(args) => prairielearn::run(args),

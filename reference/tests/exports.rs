@@ -1211,7 +1211,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert!(csv.starts_with(
         "student,score,max_score,percent,status,flip_edge,flip_edge_max,split_edge,\
          split_edge_max,in_sequence,in_sequence_max,loop_subdivide,loop_subdivide_max,\
-         first_failure\n"
+         first_failure,graded_as\n"
     ));
     assert!(
         csv.contains(&format!(
@@ -1801,5 +1801,404 @@ fn handout_exports_a_reformatted_workspace_manifest() {
     std::fs::write(lab.join("Cargo.toml"), "[workspace]\nresolver = \"2\"\n").unwrap();
     let err = reference::handout::export(&lab, &dir.join("none")).unwrap_err();
     assert!(err.contains("members"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Headless Chromium's DOM of the page at `path` (`None`, after saying so,
+/// where there is no Chromium; a failure under CI or the full tier).
+fn chromium_dom(path: &Path) -> Option<String> {
+    let exe = std::env::var_os("CHROMIUM").map(PathBuf::from).or_else(|| {
+        let dirs = std::env::var_os("PATH").unwrap_or_default();
+        std::env::split_paths(&dirs)
+            .flat_map(|d| ["chromium", "chromium-browser"].map(|n| d.join(n)))
+            .find(|p| p.is_file())
+    });
+    let Some(exe) = exe else {
+        skip("no Chromium for the class overview (set CHROMIUM=/path/to/chrome)");
+        return None;
+    };
+    let profile = path.with_file_name("chromium-profile");
+    let out = Command::new("timeout")
+        .arg("60")
+        .arg(exe)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--dump-dom",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("file://{}", path.display()))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// Issue 19's class: 40 entries (names that clash, 19 copies of one file,
+/// hostile and looping ones, one with no file), a roster, graded with
+/// `-j 2` by the command a TA runs, killed midway and run again, then one
+/// student regraded with `--only`. Each distinct file is built and graded
+/// once, so the class costs six gradings.
+#[test]
+fn a_class_of_forty_resumes_after_a_kill_merges_a_regrade_and_imports_cleanly() {
+    use std::io::BufRead;
+    let _turn = take_turn();
+    let dir = scratch("class-forty");
+    let subs = dir.join("submissions");
+    let partial = solution().replace("pub fn loop_subdivide(", "pub fn loop_subdivide_model(")
+        + "\npub fn loop_subdivide(_mesh: &mut Mesh) {}\n";
+    let mut entries: Vec<(String, String)> = Vec::new();
+    for k in 1..=19 {
+        entries.push((format!("stu{k:02}.rs"), solution()));
+    }
+    for k in 20..=29 {
+        entries.push((format!("stu{k:02}.rs"), stubs()));
+    }
+    for k in 30..=32 {
+        entries.push((format!("stu{k:02}.rs"), "pub fn flip_edge( {\n".into()));
+    }
+    entries.extend([
+        ("bob.rs".to_string(), stubs()),
+        ("bob/crates/meshedit/src/lib.rs".into(), solution()),
+        ("=cmd().rs".into(), forging()),
+        ("+1.rs".into(), stubs()),
+        ("-2.rs".into(), solution()),
+        ("@loopy.rs".into(), hostile()),
+        ("pia@uni.edu.rs".into(), partial),
+    ]);
+    for (file, text) in &entries {
+        write(&subs.join(file), text);
+    }
+    std::fs::create_dir_all(subs.join("dave")).unwrap();
+    assert_eq!(std::fs::read_dir(&subs).unwrap().count(), 40);
+    // A Canvas export as the roster: ids for most, an e-mail for Pia (in
+    // another case), Zed without a submission; @loopy, =cmd(), +1, -2,
+    // bob.rs and dave are in no roster.
+    let mut roster = String::from(
+        "Student,ID,SIS User ID,SIS Login ID,Section,Email\n    Points Possible,,,,,\n",
+    );
+    for k in 1..=32 {
+        roster.push_str(&format!("\"Student, {k}\",{},,stu{k:02},A,\n", 100 + k));
+    }
+    roster.push_str("Bob,200,,bob,B,\nPia P,201,,,B,Pia@Uni.EDU\n=Zed,202,,zed,B,\n");
+    write(&dir.join("roster.csv"), &roster);
+    let out = dir.join("out");
+    let class = |extra: &[&str]| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_reference"));
+        cmd.arg("class")
+            .arg(&subs)
+            .arg("--out")
+            .arg(&out)
+            .arg("--build-dir")
+            .arg(class_build_dir())
+            .args(["-j", "2", "--timeout", "1", "--budget", "40", "--roster"])
+            .arg(dir.join("roster.csv"))
+            .args(extra);
+        cmd
+    };
+    // Killed once two results are in.
+    let mut first = class(&[])
+        .stderr(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut seen = Vec::new();
+    for line in std::io::BufReader::new(first.stderr.take().unwrap()).lines() {
+        let line = line.unwrap();
+        seen.push(line.clone());
+        if seen.iter().filter(|l| l.starts_with('[')).count() == 2 {
+            // SAFETY: a signal to our own child.
+            unsafe { libc::kill(first.id() as i32, libc::SIGKILL) };
+            break;
+        }
+    }
+    assert!(!first.wait().unwrap().success(), "killed: {seen:#?}");
+    let finished = std::fs::read_dir(&out)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            name.to_string_lossy().ends_with(".row.json")
+        })
+        .count();
+    assert!(finished >= 2, "{seen:#?}");
+    // Six distinct files and the empty folder: the rest are copies.
+    let first_plan = seen.join("\n");
+    assert!(
+        first_plan.contains("33 submissions are identical to another one"),
+        "{first_plan}"
+    );
+
+    let again = class(&[]).output().unwrap();
+    let log = String::from_utf8_lossy(&again.stderr);
+    assert!(again.status.success(), "{log}");
+    // The TA's figures (time per student, the estimate), for --nocapture.
+    eprintln!("{}\n{log}", seen.join("\n"));
+    assert!(
+        log.contains(&format!(
+            "resuming: {finished} of 40 already have a finished result"
+        )),
+        "{log}"
+    );
+    let graded_now = log.lines().filter(|l| l.starts_with('[')).count();
+    assert_eq!(finished + graded_now, 7, "{log}");
+    assert!(
+        log.contains("graded ") && log.contains("with 2 job(s)"),
+        "{log}"
+    );
+    assert!(
+        log.contains("not in the roster (6 submissions"),
+        "the strays are reported: {log}"
+    );
+
+    // The files: every entry's reports and result, nothing half written.
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.ends_with(".part"), "{name} left half written");
+    }
+    let fresh = reference::fresh::counted(false);
+    let max = (counted("flip")
+        + counted("split")
+        + counted("sequence")
+        + counted("subdivide")
+        + fresh.iter().sum::<usize>()) as f64;
+    let rows_of = |file: &str| {
+        let text = std::fs::read_to_string(out.join(file)).unwrap();
+        reference::roster::parse_csv(&text).unwrap()
+    };
+    let summary = rows_of("summary.csv");
+    let header = summary[0].clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let row = |student: &str| {
+        summary
+            .iter()
+            .find(|r| r[0] == student)
+            .unwrap_or_else(|| panic!("no row {student}: {summary:#?}"))
+            .clone()
+    };
+    // 40 entries and Zed, who submitted nothing.
+    assert_eq!(summary.len(), 1 + 41, "{summary:#?}");
+    let numeric: Vec<usize> = header
+        .iter()
+        .enumerate()
+        .filter(|(_, h)| {
+            ["score", "max_score", "percent"].contains(&h.as_str())
+                || h.ends_with("_edge")
+                || h.ends_with("_max")
+                || h.as_str() == "in_sequence"
+                || h.as_str() == "loop_subdivide"
+        })
+        .map(|(k, _)| k)
+        .collect();
+    assert_eq!(numeric.len(), 11, "{header:?}");
+    let inert = |rows: &[Vec<String>]| {
+        for r in rows {
+            for cell in r {
+                assert!(
+                    !cell.starts_with(['=', '+', '-', '@', '\t', '\r']),
+                    "a cell a spreadsheet would run: {cell:?} in {r:?}"
+                );
+            }
+        }
+    };
+    inert(&summary);
+    for r in &summary[1..] {
+        assert_eq!(r.len(), header.len(), "{r:?}");
+        for &k in &numeric {
+            assert!(
+                r[k].parse::<f64>().is_ok(),
+                "{}: {:?} in {r:?}",
+                header[k],
+                r[k]
+            );
+        }
+        let name = &r[0];
+        let file = name.trim_start_matches('\'');
+        if r[col("status")] != "no submission" || name != "zed" {
+            for ext in ["txt", "log", "results.json", "row.json"] {
+                assert!(out.join(format!("{file}.{ext}")).is_file(), "{file}.{ext}");
+            }
+        }
+    }
+    let score = |student: &str| row(student)[col("score")].parse::<f64>().unwrap();
+    for k in 1..=19 {
+        assert_eq!(score(&format!("stu{k:02}")), max);
+    }
+    for k in 20..=29 {
+        assert_eq!(score(&format!("stu{k:02}")), 0.0);
+        assert_eq!(row(&format!("stu{k:02}"))[col("status")], "failed");
+    }
+    assert_eq!(row("stu31")[col("status")], "does not compile");
+    assert_eq!(
+        row("stu02")[col("graded_as")],
+        "'-2",
+        "the first with the file"
+    );
+    assert!(std::fs::read_to_string(out.join("stu02.txt"))
+        .unwrap()
+        .contains("graded once: this file is byte for byte -2's"));
+    // Both bobs, each with a row; the folder's is the solution's.
+    assert_eq!((score("bob"), score("bob.rs")), (max, 0.0));
+    assert_eq!(row("'-2")[col("score")].parse::<f64>().unwrap(), max);
+    let loopy = row("'@loopy");
+    assert!(loopy[col("loop_subdivide")] == "0", "{loopy:?}");
+    assert_eq!(row("'=cmd()")[col("flip_edge")], "0");
+    let pia = row("pia@uni.edu");
+    assert!(
+        score("pia@uni.edu") > 0.0 && score("pia@uni.edu") < max,
+        "{pia:?}"
+    );
+    assert_eq!(
+        (&pia[col("name")][..], &pia[col("in_roster")][..]),
+        ("Pia P", "yes")
+    );
+    assert_eq!(row("dave")[col("status")], "no submission");
+    assert_eq!(row("dave")[col("in_roster")], "no");
+    let zed = row("zed");
+    assert_eq!(
+        (&zed[col("status")][..], score("zed"), &zed[col("name")][..]),
+        ("no submission", 0.0, "'=Zed")
+    );
+
+    // Canvas's gradebook file: its columns, the points possible, one row
+    // per roster student (the strays left out), inert and numeric.
+    let canvas = rows_of("canvas.csv");
+    assert_eq!(
+        canvas[0],
+        [
+            "Student",
+            "ID",
+            "SIS User ID",
+            "SIS Login ID",
+            "Section",
+            "Mesh lab"
+        ]
+    );
+    assert_eq!(canvas[1][0].trim(), "Points Possible");
+    assert_eq!(canvas[1][5].parse::<f64>().unwrap(), max);
+    assert_eq!(canvas.len(), 2 + 35, "{canvas:#?}");
+    inert(&canvas);
+    for r in &canvas[2..] {
+        assert!(r[5].parse::<f64>().is_ok(), "{r:?}");
+    }
+    let in_canvas = |id: &str| canvas.iter().find(|r| r[1] == id).unwrap()[5].clone();
+    assert_eq!(in_canvas("101").parse::<f64>().unwrap(), max);
+    assert_eq!(
+        in_canvas("201").parse::<f64>().unwrap(),
+        score("pia@uni.edu")
+    );
+    assert_eq!(in_canvas("202"), "0");
+
+    // One student's file changes and is regraded alone: the rest stay.
+    write(&subs.join("stu20.rs"), "pub fn split_edge( {\n");
+    let only = class(&["--only", "stu20", "-q"]).output().unwrap();
+    assert!(
+        only.status.success(),
+        "{}",
+        String::from_utf8_lossy(&only.stderr)
+    );
+    let summary_after = rows_of("summary.csv");
+    assert_eq!(summary_after.len(), summary.len());
+    for (before, after) in summary[1..].iter().zip(&summary_after[1..]) {
+        if before[0] == "stu20" {
+            assert_eq!(after[col("status")], "does not compile", "{after:?}");
+        } else {
+            assert_eq!(before, after, "only stu20 was regraded");
+        }
+    }
+
+    // The overview as a browser shows it: the histogram's top bin holds
+    // the full marks, the most common first failure counts the stubs, and
+    // every student's link leads to their report.
+    let page = out.join("overview.html");
+    if let Some(dom) = chromium_dom(&page) {
+        let full = summary_after[1..]
+            .iter()
+            .filter(|r| r[col("percent")].parse::<f64>().unwrap() >= 90.0)
+            .count();
+        assert!(
+            dom.contains(&format!("data-bin=\"9\" data-count=\"{full}\"")),
+            "{dom}"
+        );
+        let mut firsts: std::collections::HashMap<&str, usize> = Default::default();
+        for r in &summary_after[1..] {
+            if !r[col("first_failure")].is_empty() {
+                *firsts.entry(&r[col("first_failure")]).or_default() += 1;
+            }
+        }
+        let most = firsts.values().max().copied().unwrap();
+        let failures = &dom[dom.find("<table id=\"failures\">").expect("the failures")..];
+        let top: usize = failures
+            .split("<td class=\"num\">")
+            .nth(1)
+            .unwrap()
+            .split('<')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(top, most, "{failures}");
+        assert!(most >= 9, "the stubs' first failure: {firsts:?}");
+        let links: Vec<&str> = dom
+            .split("<a href=\"")
+            .skip(1)
+            .map(|l| l.split('"').next().unwrap())
+            .collect();
+        assert_eq!(links.len(), 40, "every submission's report: {links:?}");
+        for link in links {
+            let file = link.replace("&amp;", "&");
+            assert!(out.join(&file).is_file(), "{file}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A roster that cannot be joined is refused at once, by name, before any
+/// build: no backtrace, a non-zero exit.
+#[test]
+fn a_bad_roster_is_refused_before_grading() {
+    let dir = scratch("class-bad-roster");
+    write(&dir.join("submissions/ann.rs"), &stubs());
+    for (roster, says) in [
+        ("Name,Grade\nAnn,3\n", "no column to join submissions by"),
+        ("Name,Email\nAnn,\n", "row 2 (Ann) has no id and no e-mail"),
+        ("Name,Email\n\"Ann,a@b\n", "never ends"),
+    ] {
+        write(&dir.join("roster.csv"), roster);
+        let start = Instant::now();
+        let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+            .arg("class")
+            .arg(dir.join("submissions"))
+            .arg("--out")
+            .arg(dir.join("out"))
+            .arg("--roster")
+            .arg(dir.join("roster.csv"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("roster.csv: ") && err.contains(says), "{err}");
+        assert!(
+            !err.contains("panicked") && !err.contains("building the lab"),
+            "{err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(20));
+    }
+    let missing = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .arg("class")
+        .arg(dir.join("submissions"))
+        .args(["--out", "/nonexistent-out", "--roster", "/nonexistent.csv"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert_eq!(missing.status.code(), Some(2), "{err}");
+    assert!(err.contains("/nonexistent.csv: No such file"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -14,7 +14,6 @@ use reference::solution::Weights;
 
 pub mod add;
 pub mod bench;
-pub mod class;
 pub mod classroom50;
 pub mod fixtures;
 pub mod flip;

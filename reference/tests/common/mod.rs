@@ -177,5 +177,9 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         landlock: true,
         only: Vec::new(),
         before: None,
+        jobs: 1,
+        regrade: false,
+        roster: None,
+        assignment: "Mesh lab".into(),
     }
 }
