@@ -501,8 +501,12 @@ fn the_grader_s_priority_and_limits_are_out_of_reach() {
     assert!(g.denied("change the grader's limits"), "{}", g.context());
 }
 
-/// Class grading of one submission, as the TA runs it.
+/// Class grading of one submission, as the TA runs it. One at a time: the
+/// class builds share one target folder, and each removes the previous
+/// submission's compiled crate from it.
 fn grade_class(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
+    static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     let dir = std::env::temp_dir().join(format!("attack-class-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("submissions")).unwrap();
