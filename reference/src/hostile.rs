@@ -589,8 +589,12 @@ fn result_channel() -> Option<std::fs::File> {
     (3..64).find_map(|fd| {
         let link = std::fs::read_link(format!("/proc/self/fd/{fd}")).ok()?;
         let stdout = std::fs::read_link("/proc/self/fd/1").ok()?;
-        // stdout was moved onto stderr: the other write end of a pipe is the channel.
-        (link.to_string_lossy().starts_with("pipe:") && link != stdout)
+        // stdout was moved onto stderr: the other write end of a pipe is
+        // the channel (the requests' pipe, open for reading, is not).
+        // SAFETY: F_GETFL only reads the descriptor's flags.
+        let writable =
+            unsafe { libc::fcntl(fd, libc::F_GETFL) } & libc::O_ACCMODE != libc::O_RDONLY;
+        (link.to_string_lossy().starts_with("pipe:") && link != stdout && writable)
             // SAFETY: an open descriptor, used once and then the process exits.
             .then(|| unsafe { std::fs::File::from_raw_fd(fd) })
     })
