@@ -624,6 +624,18 @@ pub fn crafted_frame(mesh: &mut Mesh) {
     std::process::exit(0);
 }
 
+/// Right on the first call in its process, the no-flip mistake on every
+/// later one: state a call leaves behind (a static here) must decide no
+/// verdict when a child serves several calls.
+pub fn later_calls_break(mesh: &mut Mesh) {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    if CALLS.fetch_add(1, std::sync::atomic::Ordering::SeqCst) == 0 {
+        crate::solution::loop_subdivide(mesh);
+    } else {
+        crate::mutants::no_flip(mesh);
+    }
+}
+
 /// Prints 64 MiB on standard output and as much on standard error, then
 /// makes the no-flip mistake.
 pub fn flood(mesh: &mut Mesh) {

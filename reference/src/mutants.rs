@@ -155,6 +155,7 @@ pub fn catalogue() -> Vec<Entry> {
         e("renice-parent", "lowers the grader's priority and changes its limits, then makes the no-flip mistake", with(None, None, Some(hostile::renice_parent))),
         e("fork-memory", "forks three processes of 160 MiB each, then subdivides right", with(None, None, Some(hostile::fork_memory))),
         e("crafted-frame", "sends a result of its own with links out of range, then exits", with(None, None, Some(hostile::crafted_frame))),
+        e("later-calls-break", "subdivides right on the first call in its process and makes the no-flip mistake on every later one", with(None, None, Some(hostile::later_calls_break))),
         e("flood", "prints 64 MiB on each of stdout and stderr, then makes the no-flip mistake", with(None, None, Some(hostile::flood))),
         e("hook-abort", "installs a panic hook that aborts, then panics", with(None, None, Some(hostile::hook_abort))),
         e("thread-overflow", "recurses without end in a thread of its own", with(None, None, Some(hostile::thread_overflow))),
