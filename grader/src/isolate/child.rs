@@ -1,10 +1,11 @@
 //! Both ends of a case's child process.
 //!
-//! [`serve`] is the child: it reads a [`Request`] (the input mesh and the
+//! [`serve`] is the child: it reads [`Request`]s (the input mesh and the
 //! operation, never the expected result) on [`crate::isolate::sandbox::REQUEST_FD`]
-//! (its stdin is `/dev/null`), calls the student's function
-//! under `catch_unwind` with a silent panic hook, and sends back the mesh as
-//! the function left it. It judges nothing and reads no file.
+//! (its stdin is `/dev/null`), one after another, calls the student's
+//! function for each under `catch_unwind` with a silent panic hook, and
+//! sends back the mesh as the function left it. It judges nothing and
+//! reads no file.
 //!
 //! [`analyze`] is the parent's reading of what came back: counts, the first
 //! broken link, the result as positions and edges. All of it runs in the

@@ -1,15 +1,16 @@
 //! The parent side of a case: starts the sandboxed child (see
-//! [`crate::isolate::sandbox`]), sends it the request, enforces the time limit from
-//! the moment the student's function is called, and kills everything the
-//! child started.
+//! [`crate::isolate::sandbox`]), sends it the requests of a case one by one
+//! ([`Session`]), enforces each call's time limit from the moment the
+//! student's function is called, says how it ended ([`CaseEnd`]), and kills
+//! everything the child started.
 //!
-//! Three pipes: the request goes in on the launcher's stdin (the child
+//! Three pipes: the requests go in on the launcher's stdin (the child
 //! reads it on [`crate::isolate::sandbox::REQUEST_FD`], its stdin is `/dev/null`);
 //! frames come back on its stdout (see [`crate::isolate::wire`]); whatever the
 //! student's code prints (stdout and stderr both) arrives on its stderr.
 //! No pipe is waited on past the deadline: the launcher starts in a
-//! session and process group of its own, which is killed at the deadline
-//! and after every case; where the launcher could make a PID namespace,
+//! session and process group of its own, which is killed at the deadline,
+//! after a call that did not come back, and after every case; where the launcher could make a PID namespace,
 //! the case ends with it and nothing is swept; elsewhere the grader is a
 //! "child subreaper", so a process that left the group becomes the
 //! grader's child when its parent dies and is found and killed too.

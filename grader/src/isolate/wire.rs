@@ -5,7 +5,10 @@
 //! frames: [`Frame::Sandbox`] (written by the launcher before the student's
 //! program starts), [`Frame::Started`] (just before the student's function
 //! is called: the time limit starts there), [`Frame::CpuTime`] (what the
-//! call cost), then one [`Frame::Result`].
+//! call cost), then one [`Frame::Result`]; a child serves several requests
+//! in turn, each sent length-first ([`framed_request`]), each answered by
+//! its own started, CPU time and result frames (the result length-first,
+//! see [`frame_at`]).
 //! A request may ask the child to record a subdivision (see
 //! `halfedge::recording`): the frames then come back inside the result.
 //!
