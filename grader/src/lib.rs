@@ -455,6 +455,9 @@ fn grade_case(
     let (seed, labellings) = (case.seed, &case.labellings);
     let budget = budget(f);
     let mut first = None;
+    // The labellings of this case share a child while their calls come
+    // back (see `docs/architecture.md`).
+    let mut session = runner::Session::new(program, limits);
     for (i, l) in labellings.iter().enumerate() {
         let op = match (f.operation, l.edge) {
             (Operation::Flip { .. }, Some(e)) => wire::Op::Flip(e),
@@ -497,33 +500,44 @@ fn grade_case(
         } else {
             0
         };
-        let mut child_report = runner::run_child(
-            program,
-            limits,
-            &request,
-            record,
-            timeout,
-            budget * 64 + (1 << 20) + recording,
-        )
-        .map_err(|e| format!("cannot start a grading process: {e}"))?;
-        if protections.is_none() {
-            *protections = child_report.sandbox.clone();
-        }
-        match &mut child_report.end {
-            CaseEnd::SandboxFailed { why } => {
-                return Err(format!("the grading sandbox could not be set up: {why}"))
+        let max_result = budget * 64 + (1 << 20) + recording;
+        let run = |session: &mut runner::Session| -> Result<runner::ChildReport, String> {
+            let mut report = session
+                .run(&request, record, timeout, max_result)
+                .map_err(|e| format!("cannot start a grading process: {e}"))?;
+            match &mut report.end {
+                CaseEnd::SandboxFailed { why } => {
+                    return Err(format!("the grading sandbox could not be set up: {why}"))
+                }
+                CaseEnd::Sequence(seq) => to_input_names(&mut seq.steps, &l.vertices),
+                _ => {}
             }
-            CaseEnd::Sequence(seq) => to_input_names(&mut seq.steps, &l.vertices),
-            _ => {}
-        }
-        let result = child_report.mesh.take();
-        let recorded = child_report.recorded.take();
+            Ok(report)
+        };
         // The judge walks data the student's code made: a panic there is
         // the grader's bug, said as such, never a crash of the whole run.
-        let mut report = match child::guarded(|| grade::judge(f, &child_report)) {
+        let judged = |child_report: &runner::ChildReport| match child::guarded(|| {
+            grade::judge(f, child_report)
+        }) {
             Ok(r) => r,
             Err((message, _)) => grade::judge_failed(f, &message, &child_report.output),
         };
+        let mut child_report = run(&mut session)?;
+        let mut report = judged(&child_report);
+        // A call that did not pass in a child that served an earlier one
+        // is run again in a fresh child, and that run is judged: nothing
+        // an earlier call left behind (a static, a thread, a leak against
+        // the memory cap) decides a failure.
+        if !report.passed && !session.last_was_fresh() {
+            session.restart();
+            child_report = run(&mut session)?;
+            report = judged(&child_report);
+        }
+        if protections.is_none() {
+            *protections = child_report.sandbox.clone();
+        }
+        let result = child_report.mesh.take();
+        let recorded = child_report.recorded.take();
         report.input = Some(l.mesh.clone());
         report.result = result;
         if let Some(recorded) = recorded {

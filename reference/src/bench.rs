@@ -398,9 +398,9 @@ fn grade_figures(runs: usize) -> Result<(), String> {
     }
     let stats = Stats::of(times);
     println!(
-        "full warm grade of the reference ({} cases of lab/ and bonus/, {} child runs with \
-         every labelling; no fresh cases, which only class and Gradescope grading add): {} s \
-         (target {GRADE_TARGET:.1} s: {})",
+        "full warm grade of the reference ({} cases of lab/ and bonus/, {} calls with every \
+         labelling, one locked-in child per case; no fresh cases, which only class and \
+         Gradescope grading add): {} s (target {GRADE_TARGET:.1} s: {})",
         counted.0,
         counted.1,
         stats.s(),

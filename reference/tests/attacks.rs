@@ -162,6 +162,24 @@ fn odd_endings_and_forged_frames_are_named() {
     }
 }
 
+/// The labellings of a case share a child while their calls come back,
+/// but a call that fails in a child that served an earlier one is run
+/// again in a fresh child: a function right whenever it runs first in a
+/// process passes, as it does when every call has a child of its own.
+#[test]
+fn state_left_by_an_earlier_call_decides_no_verdict() {
+    let g = grade("later-calls-break", &["--case", "cube-subdivide-1"]);
+    assert_eq!(g.code, 0, "{}", g.context());
+    assert!(
+        g.stdout.contains("lab cases passed: loop_subdivide 1/1"),
+        "{}",
+        g.context()
+    );
+    // And the mistake itself is seen where it is made on a first call.
+    let g = grade("no-flip", &["--case", "cube-subdivide-1"]);
+    assert_no_flip_verdict(&g);
+}
+
 #[test]
 fn a_flood_of_output_is_cut_and_costs_no_time() {
     let g = grade("flood", &["--case", "cube-subdivide-1", "--timeout", "5"]);

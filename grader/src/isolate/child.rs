@@ -1,10 +1,11 @@
 //! Both ends of a case's child process.
 //!
-//! [`serve`] is the child: it reads a [`Request`] (the input mesh and the
+//! [`serve`] is the child: it reads [`Request`]s (the input mesh and the
 //! operation, never the expected result) on [`crate::isolate::sandbox::REQUEST_FD`]
-//! (its stdin is `/dev/null`), calls the student's function
-//! under `catch_unwind` with a silent panic hook, and sends back the mesh as
-//! the function left it. It judges nothing and reads no file.
+//! (its stdin is `/dev/null`), one after another, calls the student's
+//! function for each under `catch_unwind` with a silent panic hook, and
+//! sends back the mesh as the function left it. It judges nothing and
+//! reads no file.
 //!
 //! [`analyze`] is the parent's reading of what came back: counts, the first
 //! broken link, the result as positions and edges. All of it runs in the
@@ -408,9 +409,13 @@ pub fn run_request(req: Request, imp: &Implementation, record: bool) -> Ran {
     }
 }
 
-/// The child's whole life: read the request on stdin, run it, send the
-/// frames on the result channel, exit. Standard output is moved onto
+/// The child's whole life: read requests on the request descriptor, one
+/// after another, run each, send its frames on the result channel; exit
+/// when the grader closes the pipe. Standard output is moved onto
 /// standard error first, so the student's prints never mix with frames.
+/// The runner sends one child the labellings of one case only, and a
+/// call that does not pass in a child that served an earlier one is run
+/// again in a fresh child (see `docs/architecture.md`).
 pub fn serve(imp: &Implementation) -> ! {
     use std::os::fd::AsFd;
     // The result channel: stdout's pipe, kept on a close-on-exec descriptor.
@@ -426,45 +431,58 @@ pub fn serve(imp: &Implementation) -> ! {
         libc::dup2(2, 1);
     }
     let mut channel = std::fs::File::from(channel);
-    // The request comes on its own descriptor (stdin is /dev/null), read
-    // to the end and closed.
+    // The requests come on their own descriptor (stdin is /dev/null).
     // SAFETY: F_GETFD only asks whether the descriptor is open.
     if unsafe { libc::fcntl(crate::isolate::sandbox::REQUEST_FD, libc::F_GETFD) } < 0 {
         eprintln!("grader child: no request: this program is started by the grader");
         std::process::exit(3);
     }
     // SAFETY: the descriptor is open and this is its only owner.
-    let mut request = unsafe {
+    let mut requests = unsafe {
         <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(crate::isolate::sandbox::REQUEST_FD)
     };
-    let mut bytes = Vec::new();
-    if let Err(e) = request.read_to_end(&mut bytes) {
-        eprintln!(
-            "grader child: cannot read the request ({e}): this program is started by the grader"
-        );
-        std::process::exit(3);
-    }
-    drop(request);
-    let (req, record) = match Request::decode_asking(&bytes) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("grader child: bad request: {e}");
-            std::process::exit(3);
-        }
-    };
-    drop(bytes);
     // The student's log lines show up in the captured output.
     halfedge::logging::init(halfedge::logging::Color::Never);
-    let _ = channel.write_all(&wire::started_frame());
-    let _ = channel.flush();
-    let cpu = crate::judge::scaling::process_cpu_time();
-    let ran = run_request(req, imp, record);
-    let cpu = crate::judge::scaling::process_cpu_time().saturating_sub(cpu);
-    let _ = channel.write_all(&wire::cpu_frame(cpu));
-    let _ = channel.write_all(&wire::result_frame(&ran));
-    let _ = channel.flush();
-    let _ = std::io::stderr().flush();
-    std::process::exit(0)
+    loop {
+        let mut len = [0u8; 8];
+        match requests.read_exact(&mut len) {
+            Ok(()) => {}
+            // The grader closed the pipe: no more calls.
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => std::process::exit(0),
+            Err(e) => {
+                eprintln!("grader child: cannot read the request ({e}): this program is started by the grader");
+                std::process::exit(3);
+            }
+        }
+        let mut bytes = Vec::new();
+        let read = (&mut requests)
+            .take(u64::from_le_bytes(len))
+            .read_to_end(&mut bytes);
+        let decoded = read
+            .map_err(|e| e.to_string())
+            .and_then(|_| Request::decode_asking(&bytes).map_err(|e| e.to_string()));
+        let (req, record) = match decoded {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("grader child: bad request: {e}");
+                std::process::exit(3);
+            }
+        };
+        drop(bytes);
+        let _ = channel.write_all(&wire::started_frame());
+        let _ = channel.flush();
+        let cpu = crate::judge::scaling::process_cpu_time();
+        let ran = run_request(req, imp, record);
+        let cpu = crate::judge::scaling::process_cpu_time().saturating_sub(cpu);
+        // What the call printed, then the mark that ends it, before its
+        // result: the runner cuts the output there.
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stderr().write_all(wire::CALL_END);
+        let _ = std::io::stderr().flush();
+        let _ = channel.write_all(&wire::cpu_frame(cpu));
+        let _ = channel.write_all(&wire::result_frame(&ran));
+        let _ = channel.flush();
+    }
 }
 
 /// The first vertex whose position is not a finite number ("vertex v7 is

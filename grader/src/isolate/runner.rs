@@ -1,15 +1,16 @@
 //! The parent side of a case: starts the sandboxed child (see
-//! [`crate::isolate::sandbox`]), sends it the request, enforces the time limit from
-//! the moment the student's function is called, and kills everything the
-//! child started.
+//! [`crate::isolate::sandbox`]), sends it the requests of a case one by one
+//! ([`Session`]), enforces each call's time limit from the moment the
+//! student's function is called, says how it ended ([`CaseEnd`]), and kills
+//! everything the child started.
 //!
-//! Three pipes: the request goes in on the launcher's stdin (the child
+//! Three pipes: the requests go in on the launcher's stdin (the child
 //! reads it on [`crate::isolate::sandbox::REQUEST_FD`], its stdin is `/dev/null`);
 //! frames come back on its stdout (see [`crate::isolate::wire`]); whatever the
 //! student's code prints (stdout and stderr both) arrives on its stderr.
 //! No pipe is waited on past the deadline: the launcher starts in a
-//! session and process group of its own, which is killed at the deadline
-//! and after every case; where the launcher could make a PID namespace,
+//! session and process group of its own, which is killed at the deadline,
+//! after a call that did not come back, and after every case; where the launcher could make a PID namespace,
 //! the case ends with it and nothing is swept; elsewhere the grader is a
 //! "child subreaper", so a process that left the group becomes the
 //! grader's child when its parent dies and is found and killed too.
@@ -21,7 +22,8 @@ use std::ffi::OsString;
 use std::io::{Read, Write};
 use std::path::PathBuf;
 use std::process::{Command, ExitStatus, Stdio};
-use std::sync::mpsc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{mpsc, Arc};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -84,11 +86,22 @@ impl ChildReport {
     }
 }
 
+/// What the threads watching a child tell the loop waiting on a call.
 enum Event {
+    /// The launcher's report of the protections in force.
     Sandbox(String),
+    /// A call started: its clock starts.
     Started,
+    /// The CPU time of the call that just ended.
+    Cpu(Duration),
+    /// A call's whole result frame.
     Result(Vec<u8>),
+    /// A result frame announced this many bytes, more than allowed.
     TooLarge(usize),
+    /// The channel held something that is not a frame.
+    Garbled(String),
+    /// The frames' pipe closed.
+    StreamEnd,
     Exited(ExitStatus),
 }
 
@@ -265,74 +278,437 @@ fn kill_group(pgid: u32) {
     }
 }
 
-/// Reads the frames as they come, telling the main loop when the
-/// launcher reported and when the clock starts.
+/// Reads the frames as they come, telling the waiting loop of each as it
+/// is whole: the launcher's report, each call's start, CPU time and
+/// result. A result announced larger than `cap` is refused unread; a
+/// stream that holds something other than frames is said once, and the
+/// rest drained so the child never blocks on a full pipe.
 fn watch_frames(
     mut stream: impl Read + Send + 'static,
-    cap: usize,
+    cap: Arc<AtomicUsize>,
     tx: mpsc::Sender<Event>,
-) -> thread::JoinHandle<()> {
+) {
     thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let mut buf = [0u8; 64 * 1024];
-        let mut reported = false;
-        let mut started = false;
+        let mut bytes: Vec<u8> = Vec::new();
+        let mut buf = vec![0u8; 64 * 1024];
+        let mut broken = false;
         while let Ok(n) = stream.read(&mut buf) {
             if n == 0 {
                 break;
             }
+            if broken {
+                continue;
+            }
             bytes.extend_from_slice(&buf[..n]);
-            if bytes.len() > cap {
-                let _ = tx.send(Event::TooLarge(bytes.len()));
-                return;
-            }
-            // The launcher's frame ('L', length, text), then the start byte.
-            if !reported && bytes.len() >= 5 && bytes[0] == wire::SANDBOX_TAG {
-                let len = u32::from_le_bytes(bytes[1..5].try_into().expect("4 bytes")) as usize;
-                if let Some(text) = bytes.get(5..5 + len) {
-                    reported = true;
-                    let _ = tx.send(Event::Sandbox(String::from_utf8_lossy(text).into_owned()));
-                }
-            }
-            if reported && !started {
-                let len = u32::from_le_bytes(bytes[1..5].try_into().expect("4 bytes")) as usize;
-                if bytes.get(5 + len) == Some(&wire::STARTED_TAG) {
-                    started = true;
-                    let _ = tx.send(Event::Started);
+            loop {
+                match wire::frame_at(&bytes) {
+                    Ok(wire::Pending::Whole(len)) => {
+                        let frame: Vec<u8> = bytes.drain(..len).collect();
+                        let event = match frame[0] {
+                            wire::SANDBOX_TAG => match wire::decode_frames(&frame) {
+                                Ok(mut f) => match f.pop() {
+                                    Some(Frame::Sandbox(s)) => Event::Sandbox(s),
+                                    _ => Event::Garbled("no launcher report".into()),
+                                },
+                                Err(e) => Event::Garbled(e.to_string()),
+                            },
+                            wire::STARTED_TAG => Event::Started,
+                            wire::RESULT_TAG => {
+                                if len > cap.load(Ordering::Relaxed) {
+                                    Event::TooLarge(len)
+                                } else {
+                                    Event::Result(frame)
+                                }
+                            }
+                            _ => match wire::decode_frames(&frame) {
+                                Ok(mut f) => match f.pop() {
+                                    Some(Frame::CpuTime(t)) => Event::Cpu(t),
+                                    _ => Event::Garbled("an unexpected frame".into()),
+                                },
+                                Err(e) => Event::Garbled(e.to_string()),
+                            },
+                        };
+                        broken = matches!(event, Event::Garbled(_) | Event::TooLarge(_));
+                        let _ = tx.send(event);
+                        if broken {
+                            bytes = Vec::new();
+                            break;
+                        }
+                    }
+                    Ok(wire::Pending::Partial(Some(total)))
+                        if total > cap.load(Ordering::Relaxed) =>
+                    {
+                        // Refused before it is read: no memory for it.
+                        let _ = tx.send(Event::TooLarge(total));
+                        broken = true;
+                        bytes = Vec::new();
+                        break;
+                    }
+                    Ok(wire::Pending::Partial(_)) => break,
+                    Err(e) => {
+                        let _ = tx.send(Event::Garbled(e.to_string()));
+                        broken = true;
+                        bytes = Vec::new();
+                        break;
+                    }
                 }
             }
         }
-        let _ = tx.send(Event::Result(bytes));
-    })
+        let _ = tx.send(Event::StreamEnd);
+    });
 }
 
+/// Reads what the student's code printed, cut into one text per call at
+/// each [`wire::CALL_END`] (each cut at 8 KiB); at the end of the stream,
+/// what the last call printed before the child died or exited.
 fn drain(mut stream: impl Read + Send + 'static) -> mpsc::Receiver<String> {
     let (tx, rx) = mpsc::channel();
     thread::spawn(move || {
+        let mark = wire::CALL_END;
         let mut kept = Vec::new();
-        let mut buf = [0u8; 4096];
         let mut cut = false;
+        // How much of the mark the latest bytes matched.
+        let mut matched = 0;
+        let mut buf = vec![0u8; 64 * 1024];
+        let finish = |kept: &mut Vec<u8>, cut: &mut bool| {
+            let mut s = String::from_utf8_lossy(kept).into_owned();
+            if *cut {
+                s.push_str("\n[... output cut ...]\n");
+            }
+            kept.clear();
+            *cut = false;
+            s
+        };
+        let keep = |kept: &mut Vec<u8>, cut: &mut bool, bytes: &[u8]| {
+            let room = OUTPUT_CAP.saturating_sub(kept.len());
+            kept.extend_from_slice(&bytes[..bytes.len().min(room)]);
+            *cut |= bytes.len() > room;
+        };
         // Keep reading past the cap so the child never blocks on a full pipe.
         while let Ok(n) = stream.read(&mut buf) {
             if n == 0 {
                 break;
             }
-            let room = OUTPUT_CAP.saturating_sub(kept.len());
-            kept.extend_from_slice(&buf[..n.min(room)]);
-            cut |= n > room;
+            let chunk = &buf[..n];
+            let mut i = 0;
+            while i < n {
+                if matched == 0 {
+                    // Up to the next byte that can start the mark, found
+                    // by the C library (a flood must cost no time, even
+                    // in a debug build).
+                    let rest = &chunk[i..];
+                    let at = first_nul(rest).unwrap_or(rest.len());
+                    keep(&mut kept, &mut cut, &rest[..at]);
+                    i += at;
+                    if i == n {
+                        break;
+                    }
+                }
+                let b = chunk[i];
+                i += 1;
+                if b == mark[matched] {
+                    matched += 1;
+                    if matched == mark.len() {
+                        matched = 0;
+                        let _ = tx.send(finish(&mut kept, &mut cut));
+                    }
+                    continue;
+                }
+                // Not the mark after all: what it matched was output. The
+                // mark's first byte occurs once in it, so a mismatch can
+                // only restart the match at this byte.
+                keep(&mut kept, &mut cut, &mark[..matched]);
+                matched = usize::from(b == mark[0]);
+                if matched == 0 {
+                    keep(&mut kept, &mut cut, &[b]);
+                }
+            }
         }
-        let mut s = String::from_utf8_lossy(&kept).into_owned();
-        if cut {
-            s.push_str("\n[... output cut ...]\n");
-        }
-        let _ = tx.send(s);
+        keep(&mut kept, &mut cut, &mark[..matched]);
+        let _ = tx.send(finish(&mut kept, &mut cut));
     });
     rx
 }
 
-/// Runs one request in a sandboxed child (`record`: ask it to record a
-/// subdivision) and reads what came back. `Err` only when no process could
-/// be started at all.
+/// Where the first NUL byte (the mark's first) is.
+fn first_nul(bytes: &[u8]) -> Option<usize> {
+    // SAFETY: memchr reads `bytes.len()` bytes from a valid slice.
+    let p = unsafe { libc::memchr(bytes.as_ptr().cast(), 0, bytes.len()) };
+    (!p.is_null()).then(|| p as usize - bytes.as_ptr() as usize)
+}
+
+/// A child that is alive between calls.
+struct Live {
+    pid: u32,
+    /// Requests to write on the child's request pipe; dropping it closes
+    /// the pipe, which ends a child waiting for its next call.
+    requests: Option<mpsc::Sender<Vec<u8>>>,
+    events: mpsc::Receiver<Event>,
+    output: mpsc::Receiver<String>,
+    /// The most bytes a result may have, set per call.
+    cap: Arc<AtomicUsize>,
+    sandbox: Option<String>,
+    status: Option<ExitStatus>,
+    /// Calls it has served.
+    served: usize,
+}
+
+impl Live {
+    /// A started child; `Ok(Err(report))` when the sandbox cannot be set
+    /// up, `Err` when no process could be started.
+    fn start(
+        program: &ChildProgram,
+        limits: &Limits,
+    ) -> std::io::Result<Result<Live, ChildReport>> {
+        use std::os::unix::process::CommandExt;
+        let exe = match runnable_program(&program.exe, limits) {
+            Ok(exe) => exe,
+            Err(why) => return Ok(Err(ChildReport::bare(CaseEnd::SandboxFailed { why }))),
+        };
+        let launcher = std::env::current_exe()?;
+        let mut cmd = Command::new(launcher);
+        cmd.args(sandbox::launcher_args(limits, &exe, &program.args))
+            .env_clear()
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        if let Some(log) = std::env::var_os("RUST_LOG") {
+            cmd.env("RUST_LOG", log);
+        }
+        // Its own session (and so its own process group, killed as one), from
+        // before the launcher runs any code: it never holds the grader's
+        // terminal, and code stuck before `main` is in the group too.
+        // SAFETY: setsid is async-signal-safe and touches no memory.
+        unsafe {
+            cmd.pre_exec(|| {
+                if libc::setsid() < 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        let mut child = {
+            let mut running = active();
+            let child = cmd.spawn()?;
+            running.push(child.id());
+            child
+        };
+        let pid = child.id();
+        let (tx, events) = mpsc::channel();
+        let mut stdin = child.stdin.take().expect("piped");
+        let (requests, queued) = mpsc::channel::<Vec<u8>>();
+        thread::spawn(move || {
+            // Fails harmlessly if the child never reads them.
+            for request in queued {
+                if stdin.write_all(&request).is_err() {
+                    return;
+                }
+            }
+        });
+        let cap = Arc::new(AtomicUsize::new(0));
+        watch_frames(child.stdout.take().expect("piped"), cap.clone(), tx.clone());
+        let output = drain(child.stderr.take().expect("piped"));
+        thread::spawn(move || {
+            if let Ok(status) = child.wait() {
+                let _ = tx.send(Event::Exited(status));
+            }
+        });
+        Ok(Ok(Live {
+            pid,
+            requests: Some(requests),
+            events,
+            output,
+            cap,
+            sandbox: None,
+            status: None,
+            served: 0,
+        }))
+    }
+
+    /// Kills the child's group and whatever it left (see
+    /// [`sweep_unless_contained`]).
+    fn end(&mut self) {
+        self.requests = None;
+        kill_group(self.pid);
+        active().retain(|&p| p != self.pid);
+        sweep_unless_contained(&self.sandbox);
+    }
+}
+
+/// Runs requests in sandboxed children: one child serves the calls of a
+/// session one after another while each comes back (returns or panics);
+/// a call that kills it, times out or garbles the channel ends it, and the
+/// next call starts a fresh one. Every call has its own time limit from
+/// its own start, its own growth budget and result cap; the memory cap is
+/// the process's. Dropping the session ends its child.
+pub struct Session<'a> {
+    program: &'a ChildProgram,
+    limits: &'a Limits,
+    live: Option<Live>,
+    /// Whether the last call ran in a child that served no call before it.
+    fresh: bool,
+}
+
+impl<'a> Session<'a> {
+    pub fn new(program: &'a ChildProgram, limits: &'a Limits) -> Session<'a> {
+        guard_grader();
+        Session {
+            program,
+            limits,
+            live: None,
+            fresh: true,
+        }
+    }
+
+    /// Whether the last call ran in a child of its own (no call before it
+    /// in that process), as a single call always does.
+    pub fn last_was_fresh(&self) -> bool {
+        self.fresh
+    }
+
+    /// Ends the current child: the next call starts a fresh one.
+    pub fn restart(&mut self) {
+        if let Some(mut live) = self.live.take() {
+            live.end();
+        }
+    }
+
+    /// Runs one request (`record`: ask for a subdivision's recording) and
+    /// reads what came back. `Err` only when no process could be started.
+    pub fn run(
+        &mut self,
+        request: &Request,
+        record: bool,
+        timeout: Duration,
+        max_result: usize,
+    ) -> std::io::Result<ChildReport> {
+        let mut live = match self.live.take() {
+            Some(live) => live,
+            None => match Live::start(self.program, self.limits)? {
+                Ok(live) => live,
+                Err(report) => return Ok(report),
+            },
+        };
+        self.fresh = live.served == 0;
+        live.served += 1;
+        live.cap.store(max_result, Ordering::Relaxed);
+        if let Some(requests) = &live.requests {
+            let _ = requests.send(wire::framed_request(request, record));
+        }
+        let begun = Instant::now();
+        let mut started: Option<Instant> = None;
+        let mut result: Option<Vec<u8>> = None;
+        let mut cpu = None;
+        let mut garbled: Option<String> = None;
+        let mut limit_hit: Option<CaseEnd> = None;
+        let mut stream_ended = false;
+        loop {
+            if result.is_some() || (live.status.is_some() && stream_ended) {
+                break;
+            }
+            let deadline = match (limit_hit.is_some() || live.status.is_some(), started) {
+                // Dead or killed: only wait for the pipes to close.
+                (true, _) => Instant::now() + CLOSE_GRACE,
+                (false, Some(t)) => t + timeout,
+                (false, None) => begun + timeout + SETUP_GRACE,
+            };
+            match live
+                .events
+                .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            {
+                Ok(Event::Sandbox(s)) => live.sandbox = Some(s),
+                Ok(Event::Started) => started = Some(Instant::now()),
+                Ok(Event::Cpu(t)) => cpu = Some(t),
+                Ok(Event::Result(bytes)) => result = Some(bytes),
+                Ok(Event::TooLarge(n)) => {
+                    kill_group(live.pid);
+                    limit_hit = Some(CaseEnd::TooLarge { bytes: n });
+                }
+                Ok(Event::Garbled(why)) => {
+                    // Let the child finish its call and exit, as it does
+                    // when no call follows: then it is said by how it ended.
+                    live.requests = None;
+                    garbled.get_or_insert(why);
+                }
+                Ok(Event::StreamEnd) => stream_ended = true,
+                Ok(Event::Exited(s)) => {
+                    live.status = Some(s);
+                    // Whatever it started dies with it, and lets go of the pipes.
+                    kill_group(live.pid);
+                    sweep_unless_contained(&live.sandbox);
+                }
+                Err(_) if live.status.is_some() || limit_hit.is_some() => break,
+                Err(_) => {
+                    kill_group(live.pid);
+                    sweep_unless_contained(&live.sandbox);
+                    limit_hit = Some(match started {
+                        Some(_) => CaseEnd::TimedOut { limit: timeout },
+                        None => CaseEnd::StuckBeforeCall {
+                            limit: timeout + SETUP_GRACE,
+                        },
+                    });
+                }
+            }
+        }
+        // A result that came back: the child lives on for the next call.
+        let came_back = result.is_some() && limit_hit.is_none() && garbled.is_none();
+        if !came_back {
+            live.end();
+        } else {
+            // Anything the call started outside the group is swept now.
+            sweep_unless_contained(&live.sandbox);
+        }
+        let output = live.output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
+        let sandbox_status = live.sandbox.clone();
+        let end = classify(
+            limit_hit,
+            live.status,
+            result,
+            garbled,
+            &output,
+            sandbox_status.is_some(),
+        );
+        let (mut mesh, mut recorded) = (None, None);
+        let end = match end {
+            Ok(mut ran) => {
+                if let Ran::Returned { mesh: m, .. } | Ran::Sequence { mesh: m, .. } = &ran {
+                    mesh = Some(m.clone());
+                }
+                if let Ran::Returned { recorded: r, .. } | Ran::Panicked { recorded: r, .. } =
+                    &mut ran
+                {
+                    recorded = r.take();
+                }
+                child::analyze(request.op, &request.mesh, ran)
+            }
+            Err(CaseEnd::OutOfMemory { .. }) => CaseEnd::OutOfMemory {
+                cap: self.limits.memory,
+            },
+            Err(end) => end,
+        };
+        if came_back {
+            self.live = Some(live);
+        }
+        Ok(ChildReport {
+            end,
+            output: strip_notices(&output),
+            sandbox: sandbox_status,
+            cpu,
+            mesh,
+            recorded,
+        })
+    }
+}
+
+impl Drop for Session<'_> {
+    fn drop(&mut self) {
+        self.restart();
+    }
+}
+
+/// Runs one request in a sandboxed child of its own (`record`: ask it to
+/// record a subdivision) and reads what came back. `Err` only when no
+/// process could be started at all.
 pub fn run_child(
     program: &ChildProgram,
     limits: &Limits,
@@ -341,132 +717,7 @@ pub fn run_child(
     timeout: Duration,
     max_result: usize,
 ) -> std::io::Result<ChildReport> {
-    use std::os::unix::process::CommandExt;
-    guard_grader();
-    let exe = match runnable_program(&program.exe, limits) {
-        Ok(exe) => exe,
-        Err(why) => return Ok(ChildReport::bare(CaseEnd::SandboxFailed { why })),
-    };
-    let input = &request.mesh;
-    let op = request.op;
-    let request = request.encode_asking(record);
-    let launcher = std::env::current_exe()?;
-    let mut cmd = Command::new(launcher);
-    cmd.args(sandbox::launcher_args(limits, &exe, &program.args))
-        .env_clear()
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    if let Some(log) = std::env::var_os("RUST_LOG") {
-        cmd.env("RUST_LOG", log);
-    }
-    // Its own session (and so its own process group, killed as one), from
-    // before the launcher runs any code: it never holds the grader's
-    // terminal, and code stuck before `main` is in the group too.
-    // SAFETY: setsid is async-signal-safe and touches no memory.
-    unsafe {
-        cmd.pre_exec(|| {
-            if libc::setsid() < 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            Ok(())
-        });
-    }
-    let mut child = {
-        let mut running = active();
-        let child = cmd.spawn()?;
-        running.push(child.id());
-        child
-    };
-    let pid = child.id();
-    let (tx, rx) = mpsc::channel();
-
-    let mut stdin = child.stdin.take().expect("piped");
-    thread::spawn(move || {
-        // Fails harmlessly if the child never reads it.
-        let _ = stdin.write_all(&request);
-    });
-    watch_frames(child.stdout.take().expect("piped"), max_result, tx.clone());
-    let output = drain(child.stderr.take().expect("piped"));
-    let waiter_tx = tx;
-    thread::spawn(move || {
-        if let Ok(status) = child.wait() {
-            let _ = waiter_tx.send(Event::Exited(status));
-        }
-    });
-
-    let begun = Instant::now();
-    let mut sandbox_status = None;
-    let mut started: Option<Instant> = None;
-    let mut status: Option<ExitStatus> = None;
-    let mut result: Option<Vec<u8>> = None;
-    let mut limit_hit: Option<CaseEnd> = None;
-    loop {
-        if status.is_some() && result.is_some() {
-            break;
-        }
-        let deadline = match (limit_hit.is_some() || status.is_some(), started) {
-            // Dead or killed: only wait for the pipes to close.
-            (true, _) => Instant::now() + CLOSE_GRACE,
-            (false, Some(t)) => t + timeout,
-            (false, None) => begun + timeout + SETUP_GRACE,
-        };
-        match rx.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
-            Ok(Event::Sandbox(s)) => sandbox_status = Some(s),
-            Ok(Event::Started) => started = Some(Instant::now()),
-            Ok(Event::Result(bytes)) => result = Some(bytes),
-            Ok(Event::TooLarge(n)) => {
-                kill_group(pid);
-                limit_hit = Some(CaseEnd::TooLarge { bytes: n });
-                result = Some(Vec::new());
-            }
-            Ok(Event::Exited(s)) => {
-                status = Some(s);
-                // Whatever it started dies with it, and lets go of the pipes.
-                kill_group(pid);
-                sweep_unless_contained(&sandbox_status);
-            }
-            Err(_) if status.is_some() || limit_hit.is_some() => break,
-            Err(_) => {
-                kill_group(pid);
-                sweep_unless_contained(&sandbox_status);
-                limit_hit = Some(match started {
-                    Some(_) => CaseEnd::TimedOut { limit: timeout },
-                    None => CaseEnd::StuckBeforeCall {
-                        limit: timeout + SETUP_GRACE,
-                    },
-                });
-            }
-        }
-    }
-    kill_group(pid);
-    active().retain(|&p| p != pid);
-    sweep_unless_contained(&sandbox_status);
-    let output = output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
-    let cpu = result.as_deref().and_then(wire::reported_cpu_time);
-    let (mut mesh, mut recorded) = (None, None);
-    let end = match classify(limit_hit, status, result, &output, sandbox_status.is_some()) {
-        Ok(mut ran) => {
-            if let Ran::Returned { mesh: m, .. } | Ran::Sequence { mesh: m, .. } = &ran {
-                mesh = Some(m.clone());
-            }
-            if let Ran::Returned { recorded: r, .. } | Ran::Panicked { recorded: r, .. } = &mut ran
-            {
-                recorded = r.take();
-            }
-            child::analyze(op, input, ran)
-        }
-        Err(CaseEnd::OutOfMemory { .. }) => CaseEnd::OutOfMemory { cap: limits.memory },
-        Err(end) => end,
-    };
-    Ok(ChildReport {
-        end,
-        output: strip_notices(&output),
-        sandbox: sandbox_status,
-        cpu,
-        mesh,
-        recorded,
-    })
+    Session::new(program, limits).run(request, record, timeout, max_result)
 }
 
 /// What the child sent, when it sent a result; else how it ended.
@@ -474,12 +725,22 @@ fn classify(
     limit_hit: Option<CaseEnd>,
     status: Option<ExitStatus>,
     result: Option<Vec<u8>>,
+    garbled: Option<String>,
     output: &str,
     sandbox_reported: bool,
 ) -> Result<Ran, CaseEnd> {
     use std::os::unix::process::ExitStatusExt;
     if let Some(end) = limit_hit {
         return Err(end);
+    }
+    if let Some(bytes) = result {
+        return match wire::decode_frames(&bytes).map(|mut f| f.pop()) {
+            Ok(Some(Frame::Result(ran))) => Ok(ran),
+            Ok(_) => Err(CaseEnd::Garbled {
+                why: "no result".into(),
+            }),
+            Err(e) => Err(CaseEnd::Garbled { why: e.to_string() }),
+        };
     }
     let Some(status) = status else {
         return Err(CaseEnd::Exited { code: None });
@@ -494,15 +755,10 @@ fn classify(
             why: output.trim().to_string(),
         });
     }
-    let frames = result.as_deref().map(wire::decode_frames);
-    match frames {
-        Some(Ok(frames)) => {
-            if let Some(Frame::Result(ran)) = frames.into_iter().last() {
-                return Ok(ran);
-            }
+    if let Some(why) = garbled {
+        if status.success() {
+            return Err(CaseEnd::Garbled { why });
         }
-        Some(Err(e)) if status.success() => return Err(CaseEnd::Garbled { why: e.to_string() }),
-        _ => {}
     }
     // The runtime's own notices: the child's last words, which no fact
     // on the channel can carry (the process is past sending frames).
@@ -531,4 +787,35 @@ fn strip_notices(output: &str) -> String {
         })
         .map(|l| format!("{l}\n"))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The output is cut at each call's mark, a mark cut across reads or
+    /// begun and abandoned is output, and the last text comes at the end.
+    #[test]
+    fn output_is_cut_per_call_at_the_mark() {
+        let mut stream = b"first\n".to_vec();
+        stream.extend_from_slice(wire::CALL_END);
+        // A mark's start that is not a mark, then the second call's mark.
+        stream.extend_from_slice(b"\x00mesh\x00second");
+        stream.extend_from_slice(wire::CALL_END);
+        stream.extend_from_slice(b"dying words");
+        let rx = drain(std::io::Cursor::new(stream));
+        let got: Vec<String> = rx.iter().collect();
+        assert_eq!(got, ["first\n", "\u{0}mesh\u{0}second", "dying words"]);
+    }
+
+    #[test]
+    fn a_flood_is_cut_for_each_call() {
+        let mut stream = vec![b'x'; 3 * OUTPUT_CAP];
+        stream.extend_from_slice(wire::CALL_END);
+        stream.extend_from_slice(b"short");
+        let got: Vec<String> = drain(std::io::Cursor::new(stream)).iter().collect();
+        assert_eq!(got.len(), 2);
+        assert!(got[0].ends_with("[... output cut ...]\n") && got[0].len() < OUTPUT_CAP + 64);
+        assert_eq!(got[1], "short");
+    }
 }

@@ -5,7 +5,10 @@
 //! frames: [`Frame::Sandbox`] (written by the launcher before the student's
 //! program starts), [`Frame::Started`] (just before the student's function
 //! is called: the time limit starts there), [`Frame::CpuTime`] (what the
-//! call cost), then one [`Frame::Result`].
+//! call cost), then one [`Frame::Result`]; a child serves several requests
+//! in turn, each sent length-first ([`framed_request`]), each answered by
+//! its own started, CPU time and result frames (the result length-first,
+//! see [`frame_at`]).
 //! A request may ask the child to record a subdivision (see
 //! `halfedge::recording`): the frames then come back inside the result.
 //!
@@ -430,9 +433,21 @@ pub fn reported_cpu_time(bytes: &[u8]) -> Option<std::time::Duration> {
     })
 }
 
-/// The child's last frame.
+/// A call's last frame: the tag, the payload's length (so a reader of the
+/// stream knows when it is whole, and can refuse one too large before
+/// reading it), the payload.
 pub fn result_frame(ran: &Ran) -> Vec<u8> {
     let mut out = vec![TAG_RESULT];
+    // The length, written once the payload is (a result can be hundreds of
+    // MiB: it is built once, never copied).
+    put_u64(&mut out, 0);
+    put_result(&mut out, ran);
+    let len = (out.len() - 9) as u64;
+    out[1..9].copy_from_slice(&len.to_le_bytes());
+    out
+}
+
+fn put_result(out: &mut Vec<u8>, ran: &Ran) {
     match ran {
         Ran::Returned {
             answer,
@@ -445,15 +460,15 @@ pub fn result_frame(ran: &Ran) -> Vec<u8> {
                 Answer::Nothing => out.push(1),
                 Answer::Edge(e) => {
                     out.push(2);
-                    put_u32(&mut out, e.0);
+                    put_u32(out, e.0);
                 }
                 Answer::Vertex(v) => {
                     out.push(3);
-                    put_u32(&mut out, v.0);
+                    put_u32(out, v.0);
                 }
             }
-            put_mesh(&mut out, mesh);
-            put_recorded(&mut out, recorded.as_ref());
+            put_mesh(out, mesh);
+            put_recorded(out, recorded.as_ref());
         }
         Ran::Panicked {
             message,
@@ -462,29 +477,28 @@ pub fn result_frame(ran: &Ran) -> Vec<u8> {
             recorded,
         } => {
             out.push(1);
-            put_str(&mut out, message);
-            put_str(&mut out, location.as_deref().unwrap_or(""));
-            put_u64(&mut out, grew_past.unwrap_or(0));
-            put_recorded(&mut out, recorded.as_ref());
+            put_str(out, message);
+            put_str(out, location.as_deref().unwrap_or(""));
+            put_u64(out, grew_past.unwrap_or(0));
+            put_recorded(out, recorded.as_ref());
         }
         Ran::Sequence { steps, mesh, panic } => {
             out.push(2);
-            put_u32(&mut out, steps.len() as u32);
+            put_u32(out, steps.len() as u32);
             for s in steps {
-                put_step(&mut out, s);
+                put_step(out, s);
             }
             match panic {
                 None => out.push(0),
                 Some((message, location)) => {
                     out.push(1);
-                    put_str(&mut out, message);
-                    put_str(&mut out, location.as_deref().unwrap_or(""));
+                    put_str(out, message);
+                    put_str(out, location.as_deref().unwrap_or(""));
                 }
             }
-            put_mesh(&mut out, mesh);
+            put_mesh(out, mesh);
         }
     }
-    out
 }
 
 fn put_recorded(out: &mut Vec<u8>, recorded: Option<&Recorded>) {
@@ -620,6 +634,9 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
             TAG_STARTED => frames.push(Frame::Started),
             TAG_CPU => frames.push(Frame::CpuTime(std::time::Duration::from_nanos(r.u64()?))),
             TAG_RESULT => {
+                let n = r.u64()?;
+                let payload = r.take(usize::try_from(n).unwrap_or(usize::MAX))?;
+                let mut r = Reader { bytes: payload };
                 let ran = match r.u8()? {
                     0 => {
                         let answer = match r.u8()? {
@@ -668,8 +685,8 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
                     }
                     x => return Err(WireError(format!("unknown result kind {x}"))),
                 };
-                frames.push(Frame::Result(ran));
                 r.end()?;
+                frames.push(Frame::Result(ran));
             }
             x => return Err(WireError(format!("unknown frame {x}"))),
         }
@@ -677,10 +694,76 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
     Ok(frames)
 }
 
+/// How a frame at the start of `bytes` stands, for a reader of the stream
+/// as it arrives (see [`frame_at`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pending {
+    /// The frame is whole: it is this many bytes.
+    Whole(usize),
+    /// More bytes are needed; for a result, its length is known once its
+    /// header arrived (`Some(total)`).
+    Partial(Option<usize>),
+}
+
+/// Where the frame at the start of `bytes` ends, without decoding it; an
+/// unknown tag is an error (the channel was written to by someone else).
+pub fn frame_at(bytes: &[u8]) -> Result<Pending, WireError> {
+    let Some(&tag) = bytes.first() else {
+        return Ok(Pending::Partial(None));
+    };
+    let sized = |header: usize, len: Option<u64>| match len {
+        None => Pending::Partial(None),
+        Some(len) => {
+            let total = (header as u64).saturating_add(len);
+            let total = usize::try_from(total).unwrap_or(usize::MAX);
+            if bytes.len() >= total {
+                Pending::Whole(total)
+            } else {
+                Pending::Partial(Some(total))
+            }
+        }
+    };
+    match tag {
+        TAG_STARTED => Ok(Pending::Whole(1)),
+        TAG_CPU => Ok(sized(9, Some(0))),
+        TAG_SANDBOX => Ok(sized(
+            5,
+            bytes
+                .get(1..5)
+                .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as u64),
+        )),
+        TAG_RESULT => Ok(sized(
+            9,
+            bytes
+                .get(1..9)
+                .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes"))),
+        )),
+        x => Err(WireError(format!("unknown frame {x}"))),
+    }
+}
+
+/// A request as it goes down the pipe of a child that serves several
+/// (see [`crate::isolate::child::serve`]): its length, then its bytes.
+pub fn framed_request(request: &Request, record: bool) -> Vec<u8> {
+    let body = request.encode_asking(record);
+    let mut out = Vec::with_capacity(8 + body.len());
+    put_u64(&mut out, body.len() as u64);
+    out.extend_from_slice(&body);
+    out
+}
+
+/// What the child writes on its output (the student's stdout and stderr)
+/// after each call, before the call's result: the runner cuts the output
+/// there, so each call gets what was printed during it. Its first byte
+/// occurs nowhere else in it, so a plain scan finds it. Code that prints
+/// it only moves printed text between calls: no verdict reads the output.
+pub const CALL_END: &[u8] = b"\x00meshlab: call ended\n";
+
 /// The tags of the launcher's frame and of the frame that starts the
 /// clock, for a reader that watches the stream as it arrives.
 pub const SANDBOX_TAG: u8 = TAG_SANDBOX;
 pub const STARTED_TAG: u8 = TAG_STARTED;
+pub const RESULT_TAG: u8 = TAG_RESULT;
 
 #[cfg(test)]
 mod tests {
@@ -925,6 +1008,44 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    /// A reader of the stream learns where each frame ends, and a
+    /// result's length from its header alone.
+    #[test]
+    fn frames_are_found_as_they_arrive() {
+        let result = result_frame(&Ran::Returned {
+            answer: Answer::Unit,
+            mesh: unusual(),
+            recorded: None,
+        });
+        let mut stream = sandbox_frame("x");
+        stream.extend(started_frame());
+        stream.extend(result.clone());
+        assert_eq!(frame_at(&stream), Ok(Pending::Whole(6)));
+        assert_eq!(frame_at(&stream[6..]), Ok(Pending::Whole(1)));
+        assert_eq!(frame_at(&stream[7..]), Ok(Pending::Whole(result.len())));
+        assert_eq!(frame_at(&result[..5]), Ok(Pending::Partial(None)));
+        assert_eq!(
+            frame_at(&result[..20]),
+            Ok(Pending::Partial(Some(result.len())))
+        );
+        assert!(frame_at(b"Z").is_err());
+        let mut request = framed_request(
+            &Request {
+                op: Op::Flip(EdgeId(1)),
+                steps: Vec::new(),
+                budget: 5,
+                mesh: unusual(),
+            },
+            true,
+        );
+        let body = request.split_off(8);
+        assert_eq!(
+            u64::from_le_bytes(request.try_into().unwrap()),
+            body.len() as u64
+        );
+        assert!(Request::decode_asking(&body).unwrap().1);
     }
 
     #[test]

@@ -60,6 +60,7 @@ pub fn entries() -> Vec<Entry> {
         e("ipc-by-id", "sends to a System V message queue and attaches shared memory it finds by index, then makes the no-flip mistake", model().subdivide(ipc_by_id)),
         e("probes", "tries a shell, a memfd past the cap, raising its limits, kill -1, real-time priority, /dev/shm, its pipes through /proc, the hidden fixtures by path, a thread bomb; then makes the no-flip mistake", model().subdivide(probes)),
         e("wipe-files", "empties, truncates, renames, links and removes a file of its user, makes a folder, a link and a pipe beside it, then makes the no-flip mistake", model().subdivide(wipe_files)),
+        e("later-calls-break", "subdivides right on the first call in its process and makes the no-flip mistake on every later one", model().subdivide(later_calls_break)),
         e(INIT_LOOP, "a static initialiser that never returns, before main", model()),
     ]
 }
@@ -583,8 +584,12 @@ fn result_channel() -> Option<std::fs::File> {
     (3..64).find_map(|fd| {
         let link = std::fs::read_link(format!("/proc/self/fd/{fd}")).ok()?;
         let stdout = std::fs::read_link("/proc/self/fd/1").ok()?;
-        // stdout was moved onto stderr: the other write end of a pipe is the channel.
-        (link.to_string_lossy().starts_with("pipe:") && link != stdout)
+        // stdout was moved onto stderr: the other write end of a pipe is
+        // the channel (the requests' pipe, open for reading, is not).
+        // SAFETY: F_GETFL only reads the descriptor's flags.
+        let writable =
+            unsafe { libc::fcntl(fd, libc::F_GETFL) } & libc::O_ACCMODE != libc::O_RDONLY;
+        (link.to_string_lossy().starts_with("pipe:") && link != stdout && writable)
             // SAFETY: an open descriptor, used once and then the process exits.
             .then(|| unsafe { std::fs::File::from_raw_fd(fd) })
     })
@@ -612,6 +617,18 @@ pub fn crafted_frame(mesh: &mut Mesh) {
         let _ = channel.flush();
     }
     std::process::exit(0);
+}
+
+/// Right on the first call in its process, the no-flip mistake on every
+/// later one: state a call leaves behind (a static here) must decide no
+/// verdict when a child serves several calls.
+pub fn later_calls_break(mesh: &mut Mesh) {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    if CALLS.fetch_add(1, std::sync::atomic::Ordering::SeqCst) == 0 {
+        crate::solution::loop_subdivide(mesh);
+    } else {
+        mistakes::no_flip(mesh);
+    }
 }
 
 /// Prints 64 MiB on standard output and as much on standard error, then
