@@ -1,9 +1,10 @@
 //! Gradescope's side: grading the upload in `/autograder/submission` into
 //! `/autograder/results/results.json`, as set up by the bundle's
-//! `run_autograder --setup` (which moved the hidden cases into
-//! `meshlab/fixtures`, a folder only root may enter, vendored the
-//! dependencies and wrote `meshlab/settings.json`). `run_autograder` execs
-//! this for each submission; `AUTOGRADER` replaces `/autograder` in tests.
+//! `run_autograder --setup` ([`crate::setup::gradescope`] moved the hidden
+//! cases into `meshlab/fixtures`, a folder only root may enter, vendored
+//! the dependencies and wrote `meshlab/settings.json`). `run_autograder`
+//! execs this for each submission; `AUTOGRADER` replaces `/autograder` in
+//! tests.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -50,22 +51,22 @@ impl Places {
     pub fn lab(&self) -> PathBuf {
         self.root.join("source/lab")
     }
-    fn state(&self) -> PathBuf {
+    pub(crate) fn state(&self) -> PathBuf {
         self.root.join("meshlab")
     }
     pub fn fixtures(&self) -> PathBuf {
         self.state().join("fixtures")
     }
-    fn fresh(&self) -> PathBuf {
+    pub(crate) fn fresh(&self) -> PathBuf {
         self.state().join("fresh")
     }
-    fn vendor(&self) -> PathBuf {
+    pub(crate) fn vendor(&self) -> PathBuf {
         self.state().join("vendor")
     }
     fn bin(&self) -> PathBuf {
         self.state().join("bin")
     }
-    fn settings(&self) -> PathBuf {
+    pub(crate) fn settings(&self) -> PathBuf {
         self.state().join("settings.json")
     }
     pub fn results(&self) -> PathBuf {
@@ -94,7 +95,7 @@ fn setup_error(log: &Log, why: &str, max: usize) -> Value {
 }
 
 /// The fresh-case sets set up, in order (folders `0`, `1`, ...).
-fn fresh_sets(places: &Places) -> Vec<String> {
+pub(crate) fn fresh_sets(places: &Places) -> Vec<String> {
     let mut sets: Vec<u32> = std::fs::read_dir(places.fresh())
         .into_iter()
         .flatten()

@@ -5,14 +5,17 @@
 //! grades it one stage at a time within a budget; [`platform`] turns the
 //! outcome into Gradescope's, Classroom 50's or PrairieLearn's result file;
 //! [`process`] runs commands with deadlines and sweeps what a submission
-//! left behind. `reference class` (the TAs' tool) and the `autograde`
-//! program (Gradescope, Classroom 50, PrairieLearn) both call it.
+//! left behind; [`setup`] readies a grading machine once (Gradescope's
+//! setup, the build user's toolchain). `reference class` (the TAs' tool)
+//! and the `autograde` program (Gradescope, Classroom 50, PrairieLearn)
+//! both call it.
 
 pub mod grade;
 pub mod gradescope;
 pub mod local;
 pub mod platform;
 pub mod process;
+pub mod setup;
 pub mod upload;
 
 use std::path::Path;

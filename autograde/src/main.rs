@@ -3,7 +3,11 @@
 //! - `autograde gradescope --budget S --timeout S [--bonus]`: Gradescope's
 //!   per-submission step (`run_autograder` execs it); `MESHLAB_BUDGET` and
 //!   `MESHLAB_CASE_TIMEOUT` replace the two limits (tests).
-//! - `autograde gradescope-warm`: at setup, the first locked-in build.
+//! - `autograde gradescope-setup`: once per image, after `run_autograder
+//!   --setup` built this program (`setup::gradescope`: fixtures, vendored
+//!   crates, the build user's toolchain and target folder, the first
+//!   locked-in build); `MESHLAB_BUILD_TARGET` names the target folder.
+//! - `autograde gradescope-warm`: the first locked-in build alone.
 //! - `autograde classroom50 --lab DIR`: Classroom 50's step (its
 //!   `autograder.py` runs it in the student's checkout): writes
 //!   `./result.json` (`classroom50/result/v1`).
@@ -28,6 +32,7 @@ use autograde::local::Local;
 use autograde::platform::{self, Classroom50};
 
 const USAGE: &str = "usage: autograde gradescope --budget SECONDS --timeout SECONDS [--bonus]\n       \
+                     autograde gradescope-setup\n       \
                      autograde gradescope-warm\n       \
                      autograde classroom50 --lab DIR [--fixtures DIR] [--budget SECONDS] [--timeout SECONDS]\n       \
                      autograde prairielearn --lab DIR --fixtures DIR [--root DIR] [--budget SECONDS] \
@@ -222,6 +227,12 @@ fn run(args: Vec<String>) -> Result<(), String> {
                 }),
             };
             write_json(&root.join("results/results.json"), &results)
+        }
+        "gradescope-setup" if rest.is_empty() => {
+            let start = std::time::Instant::now();
+            autograde::setup::gradescope(&Places::from_env(), &|line| {
+                println!("[{:6.1} s] {line}", start.elapsed().as_secs_f64())
+            })
         }
         "gradescope-warm" if rest.is_empty() => {
             println!("{}", gradescope::warm(&Places::from_env())?);

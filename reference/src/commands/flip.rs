@@ -4,20 +4,15 @@ use std::process::ExitCode;
 
 use reference::solution;
 
-use super::obj::{flip_refusal, obj_with_edge, write_obj, EdgeArgs};
+use super::obj::{flip_refusal, EdgeArgs};
 use super::Outcome;
 
 /// `flip`'s arguments: the OBJ, the edge, the output.
 pub type Args = EdgeArgs;
 
 pub fn run(args: Args) -> Outcome {
-    let EdgeArgs {
-        input,
-        a,
-        b,
-        output,
-    } = args;
-    let (mut mesh, e) = obj_with_edge(&input, a, b)?;
+    let (mut mesh, e) = args.mesh_and_edge()?;
+    let (a, b) = (args.a, args.b);
     // Checked here too, so that the message says why.
     if let Some(why) = flip_refusal(&mesh, e) {
         return Err(format!("the edge {a}-{b} cannot be flipped: {why}"));
@@ -25,7 +20,7 @@ pub fn run(args: Args) -> Outcome {
     if solution::flip_edge(&mut mesh, e).is_none() {
         return Err(format!("the edge {a}-{b} cannot be flipped"));
     }
-    write_obj(&mesh, &input, "the flip", &output)?;
-    println!("wrote {}", output.display());
+    args.write(&mesh, "the flip")?;
+    println!("wrote {}", args.output.display());
     Ok(ExitCode::SUCCESS)
 }

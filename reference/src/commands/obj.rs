@@ -130,12 +130,19 @@ pub fn obj_edge(mesh: &Mesh, a: usize, b: usize) -> Result<[usize; 2], String> {
     Ok([a - 1, b - 1])
 }
 
-/// An OBJ file and the edge between its vertices `a` and `b` (1-based).
-pub fn obj_with_edge(path: &Path, a: usize, b: usize) -> Result<(Mesh, EdgeId), String> {
-    let mesh = read_obj(path)?;
-    let [i, j] = obj_edge(&mesh, a, b)?;
-    let e = mesh.edge_between(i, j).expect("obj_edge checked it exists");
-    Ok((mesh, e))
+impl EdgeArgs {
+    /// The OBJ file and the edge between its vertices `a` and `b`.
+    pub fn mesh_and_edge(&self) -> Result<(Mesh, EdgeId), String> {
+        let mesh = read_obj(&self.input)?;
+        let [i, j] = obj_edge(&mesh, self.a, self.b)?;
+        let e = mesh.edge_between(i, j).expect("obj_edge checked it exists");
+        Ok((mesh, e))
+    }
+
+    /// Writes the result of `what` to `--output` once it validates.
+    pub fn write(&self, mesh: &Mesh, what: &str) -> Result<(), String> {
+        write_obj(mesh, &self.input, what, &self.output)
+    }
 }
 
 /// Writes the result of `what` on `input`, after checking it.
