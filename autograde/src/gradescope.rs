@@ -338,7 +338,17 @@ fn grade_upload(places: &Places, options: &Options, log: &Log) -> Value {
     );
     let _ = std::fs::remove_dir_all(&work);
     match outcome {
-        Ok(outcome) => platform::gradescope(&outcome),
+        Ok(outcome) => {
+            let mut results = platform::gradescope(&outcome);
+            platform::add_gradescope_leaderboard(&mut results, &outcome);
+            match platform::subdivision_time(&outcome) {
+                Ok((faces, ms)) => log.say(&format!(
+                    "leaderboard: loop_subdivide {ms:.3} ms of CPU time on {faces} faces"
+                )),
+                Err(why) => log.say(&format!("leaderboard: no entry ({why:?})")),
+            }
+            results
+        }
         Err(why) => {
             log.say(&format!("autograder error: {why}"));
             platform::gradescope_zero(
@@ -459,7 +469,9 @@ fn grade_in(
         bonus: options.bonus,
         logs: work.to_path_buf(),
         reaper: std::env::current_exe().map_err(|e| e.to_string())?,
-        extra_args: Vec::new(),
+        // The leaderboard's time: the subdivision stage's grader times
+        // loop_subdivide within its budget (the other stages ignore it).
+        extra_args: vec!["--time-subdivision".into()],
     };
     let stages = grade::grade_stages(&grading, remaining);
     for run in &stages {

@@ -163,6 +163,105 @@ pub fn gradescope_zero(message: &str, max: usize) -> Value {
     })
 }
 
+/// Why a submission has no leaderboard entry.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Untimed {
+    /// Not graded, or the subdivision stage was stopped or failed to run.
+    NotGraded,
+    /// A counted subdivision case failed: a wrong answer is not timed.
+    Failing,
+    /// The larger icosphere did not finish within the limit (seconds).
+    TooSlow { faces: usize, limit: f64 },
+    /// Subdivision passed, yet no time came back (a run failed, or too
+    /// little of the budget was left).
+    NotMeasured,
+}
+
+impl Untimed {
+    /// The line the student reads in place of a time.
+    fn message(&self) -> String {
+        let why = match self {
+            Untimed::NotGraded => "loop_subdivide was not graded".to_string(),
+            Untimed::Failing => "loop_subdivide does not pass every case yet".to_string(),
+            Untimed::TooSlow { faces, limit } => format!(
+                "one round of loop_subdivide on an icosphere of {faces} faces did not finish \
+                 within {limit:.2} s"
+            ),
+            Untimed::NotMeasured => {
+                "loop_subdivide could not be timed within the time left".to_string()
+            }
+        };
+        format!("leaderboard: no time ({why})")
+    }
+}
+
+/// The leaderboard's figure: the CPU time, in milliseconds, of one round
+/// of `loop_subdivide` on the grader's larger icosphere (its scaling
+/// check, `scaling` in the subdivision stage's JSON report), with that
+/// icosphere's faces. Only for a subdivision that passed every counted case
+/// and finished: a time-out is a limit, not a time.
+pub fn subdivision_time(outcome: &Outcome) -> Result<(usize, f64), Untimed> {
+    let Outcome::Graded { stages, .. } = outcome else {
+        return Err(Untimed::NotGraded);
+    };
+    let run = stages
+        .iter()
+        .find(|r| r.stage.stage == "subdivide")
+        .ok_or(Untimed::NotGraded)?;
+    let report = run.report.as_ref().ok_or(Untimed::NotGraded)?;
+    let scaling = &report["scaling"];
+    if scaling.is_null() {
+        let counted_all_passed = run
+            .case_reports()
+            .iter()
+            .filter(|c| c["group"] != "bonus")
+            .all(|c| c["passed"] == true);
+        return Err(if counted_all_passed && run.cases > 0 {
+            Untimed::NotMeasured
+        } else {
+            Untimed::Failing
+        });
+    }
+    let faces = scaling["faces"][1].as_u64().unwrap_or(0) as usize;
+    let seconds = scaling["seconds"][1].as_f64().unwrap_or(0.0);
+    if scaling["timed_out"] == true {
+        return Err(Untimed::TooSlow {
+            faces,
+            limit: seconds,
+        });
+    }
+    if faces == 0 || seconds.is_nan() || seconds <= 0.0 {
+        return Err(Untimed::NotMeasured);
+    }
+    Ok((faces, seconds * 1000.0))
+}
+
+/// Adds Gradescope's `leaderboard` to its `results.json` (lowest time
+/// first), or, when there is no time, the line saying why to its output
+/// (not for a submission that was not graded at all: its output already
+/// says why).
+pub fn add_gradescope_leaderboard(results: &mut Value, outcome: &Outcome) {
+    match subdivision_time(outcome) {
+        Err(_) if matches!(outcome, Outcome::NotGraded { .. }) => {}
+        Ok((faces, ms)) => {
+            results["leaderboard"] = json!([{
+                "name": format!("loop_subdivide (ms, icosphere {faces} faces)"),
+                // Microseconds are below what a loaded machine keeps steady.
+                "value": (ms * 1000.0).round() / 1000.0,
+                "order": "asc",
+            }]);
+        }
+        Err(why) => {
+            let mut output = results["output"].as_str().unwrap_or_default().to_string();
+            if !output.is_empty() {
+                output.push('\n');
+            }
+            output.push_str(&why.message());
+            results["output"] = json!(output);
+        }
+    }
+}
+
 /// What Classroom 50's runner gives an autograder (its environment), for
 /// the identity fields of `result.json`.
 #[derive(Clone, Debug, Default)]
@@ -364,6 +463,98 @@ mod tests {
             "{out}"
         );
         assert!(out.contains("1 hidden cases"), "{out}");
+    }
+
+    /// The grader's JSON report of a subdivision stage, `scaling` as the
+    /// grader serializes it (its own type, not a copy of its field names).
+    fn subdivision(passed: &[bool], scaling: Option<grader::judge::scaling::Scaling>) -> Outcome {
+        let mut sub = run(3, passed, 0);
+        if let Some(s) = scaling {
+            sub.report.as_mut().unwrap()["scaling"] = serde_json::to_value(s).unwrap();
+        }
+        Outcome::Graded {
+            stages: vec![run(0, &[true], 0), sub],
+            notes: vec![],
+            bonus: false,
+        }
+    }
+
+    fn timed(seconds: [f64; 2], timed_out: bool) -> grader::judge::scaling::Scaling {
+        grader::judge::scaling::Scaling {
+            faces: [80, 1280],
+            seconds,
+            ratio: seconds[1] / seconds[0],
+            exponent: 1.0,
+            timed_out,
+            quadratic: timed_out,
+            runs: 4,
+        }
+    }
+
+    #[test]
+    fn the_leaderboard_has_the_larger_icospheres_time_when_it_was_measured() {
+        let outcome = subdivision(&[true, true], Some(timed([0.0011, 0.0123456], false)));
+        let mut gs = gradescope(&outcome);
+        add_gradescope_leaderboard(&mut gs, &outcome);
+        let board = gs["leaderboard"].as_array().expect("a leaderboard");
+        assert_eq!(board.len(), 1, "{gs}");
+        assert_eq!(
+            board[0]["name"],
+            "loop_subdivide (ms, icosphere 1280 faces)"
+        );
+        assert_eq!(board[0]["order"], "asc", "lowest time first");
+        let value = board[0]["value"].as_f64().unwrap();
+        assert!((value - 12.346).abs() < 1e-9, "{value}");
+        assert!(!gs["output"].as_str().unwrap().contains("leaderboard"));
+        // The score is the cases' alone.
+        assert_eq!(gs["score"], 3.0);
+    }
+
+    #[test]
+    fn no_leaderboard_entry_without_a_time_and_the_output_says_why() {
+        let cases: [(Outcome, &str); 3] = [
+            (
+                subdivision(&[true, false], None),
+                "does not pass every case",
+            ),
+            (
+                subdivision(&[true, true], None),
+                "could not be timed within the time left",
+            ),
+            (
+                subdivision(&[true, true], Some(timed([0.002, 2.0], true))),
+                "1280 faces did not finish within 2.00 s",
+            ),
+        ];
+        for (outcome, why) in cases {
+            let mut gs = gradescope(&outcome);
+            add_gradescope_leaderboard(&mut gs, &outcome);
+            assert!(gs.get("leaderboard").is_none(), "{gs}");
+            let out = gs["output"].as_str().unwrap();
+            assert!(
+                out.contains("leaderboard: no time (") && out.contains(why),
+                "{out}"
+            );
+        }
+        // Not graded at all: no entry, and the output is the compiler's.
+        let broken = Outcome::NotGraded {
+            message: "does not compile".into(),
+            counts: [1, 1, 1, 1],
+        };
+        let mut gs = gradescope(&broken);
+        add_gradescope_leaderboard(&mut gs, &broken);
+        assert!(gs.get("leaderboard").is_none());
+        assert_eq!(gs["output"], "does not compile");
+        // A stopped stage (no report) is not graded either.
+        let mut stopped = run(3, &[true], 0);
+        stopped.report = None;
+        stopped.results = None;
+        let outcome = Outcome::Graded {
+            stages: vec![stopped],
+            notes: vec![],
+            bonus: false,
+        };
+        assert_eq!(subdivision_time(&outcome), Err(Untimed::NotGraded));
     }
 
     #[test]

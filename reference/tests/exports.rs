@@ -682,7 +682,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let grade = |files: &[(&str, String)], budget: Option<u32>| upload(files, &[], budget);
 
     // The model solution alone: full marks, hidden cases after publication.
-    let (good, _, log) = grade(&[("lib.rs", solution())], None);
+    let (good, good_took, log) = grade(&[("lib.rs", solution())], None);
     let tests = tests_of(&good);
     assert_eq!(sum(&tests, "max_score"), max, "{log}");
     assert_eq!(good["score"].as_f64(), Some(max), "{good}");
@@ -722,7 +722,27 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
             .any(|t| t["tags"].as_array().unwrap().contains(&"bonus".into())),
         "no bonus"
     );
-    assert!(good["execution_time"].as_u64().is_some());
+    // Whole seconds of the autograder's own run: within the launch's.
+    let seconds = good["execution_time"].as_u64().expect("execution_time");
+    assert!(
+        seconds <= good_took.as_secs() && seconds + 30 >= good_took.as_secs(),
+        "execution_time {seconds} s, the run took {good_took:?}"
+    );
+    // The leaderboard: loop_subdivide's time on the grader's larger
+    // icosphere, timed within the subdivision stage's budget.
+    let board = good["leaderboard"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no leaderboard: {log}\n{}", good["output"]));
+    assert_eq!(board.len(), 1, "{board:?}");
+    let faces = halfedge::shapes::icosphere(grader::judge::scaling::LARGE_LEVEL).num_faces();
+    assert_eq!(
+        board[0]["name"],
+        format!("loop_subdivide (ms, icosphere {faces} faces)")
+    );
+    assert_eq!(board[0]["order"], "asc");
+    let ms = board[0]["value"].as_f64().unwrap();
+    assert!(ms > 0.0 && ms < good_took.as_secs_f64() * 1000.0, "{ms} ms");
+    assert!(log.contains("leaderboard: loop_subdivide"), "{log}");
 
     // A whole workspace: the student's file, never another crate's lib.rs
     // (which sorts first).
@@ -756,11 +776,22 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let (stub, _, _) = grade(&[("crates/meshedit/src/lib.rs", stubs())], None);
     assert_eq!(stub["score"].as_f64(), Some(0.0));
     assert_eq!(sum(&tests_of(&stub), "max_score"), max);
+    // No time for code that does not subdivide right, and the output says so.
+    assert!(stub.get("leaderboard").is_none(), "{stub}");
+    assert!(
+        stub["output"]
+            .as_str()
+            .unwrap()
+            .contains("leaderboard: no time (loop_subdivide does not pass every case yet)"),
+        "{}",
+        stub["output"]
+    );
 
     // A compile error: zero out of the full score, with the compiler's words.
     let (broken, _, _) = grade(&[("lib.rs", "pub fn flip_edge( {\n".into())], None);
     assert_eq!(broken["score"].as_f64(), Some(0.0));
     assert_eq!(sum(&tests_of(&broken), "max_score"), max);
+    assert!(broken.get("leaderboard").is_none(), "{broken}");
     let output = broken["output"].as_str().unwrap();
     assert!(
         output.starts_with("Your code does not compile:"),

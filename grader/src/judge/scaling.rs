@@ -19,8 +19,14 @@
 //! machine from making linear code look quadratic, the small size runs
 //! several times and the fastest counts, and a ratio above the threshold
 //! is measured again (both sizes) before anything is said.
+//!
+//! With `--budget` it runs only when asked (`--time-subdivision`, which
+//! Gradescope's leaderboard uses), and then within what the cases left of
+//! the budget: every run's limit is cut to the time left, and the timing
+//! is given up (nothing said) when too little is left, so it never
+//! shortens a case's limit nor runs the grader past its budget.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use halfedge::Mesh;
 use serde::Serialize;
@@ -199,27 +205,9 @@ fn time_once(program: &ChildProgram, limits: &Limits, mesh: &Mesh, limit: Durati
     }
 }
 
-/// The fastest of `n` runs, or `None` when one did not finish right.
-fn fastest(
-    program: &ChildProgram,
-    limits: &Limits,
-    mesh: &Mesh,
-    limit: Duration,
-    n: usize,
-) -> Option<Duration> {
-    let mut best: Option<Duration> = None;
-    for _ in 0..n {
-        match time_once(program, limits, mesh, limit) {
-            Run::Took(t) => best = Some(best.map_or(t, |b| b.min(t))),
-            Run::TimedOut | Run::Failed => return None,
-        }
-    }
-    best
-}
-
 /// Whether the run times `loop_subdivide`: it graded subdivision (`asked`:
-/// no `--case`, no `--stage` but `subdivide`, no `--budget`, whose runs it
-/// would take from), and every counted subdivision case passed (a slow
+/// no `--case`, no `--stage` but `subdivide`, no `--budget` unless
+/// `--time-subdivision`), and every counted subdivision case passed (a slow
 /// answer is worth fixing once it is right).
 pub fn wanted(reports: &[crate::judge::grade::CaseReport], asked: bool) -> bool {
     use crate::judge::fixture::{Group, Stage};
@@ -230,21 +218,89 @@ pub fn wanted(reports: &[crate::judge::grade::CaseReport], asked: bool) -> bool 
     asked && !counted.is_empty() && counted.iter().all(|r| r.passed)
 }
 
+/// The least time left worth starting a timed run with: below it, the
+/// timing is given up rather than cut short.
+const MIN_LEFT: f64 = 0.5;
+
+/// Seconds kept back from a deadline for starting each child and for the
+/// grader to write its report once the timing is over.
+const DEADLINE_MARGIN: f64 = 0.5;
+
+/// The limits of the timed runs: the run's own, cut to what is left before
+/// a deadline (`--budget`'s end), if any.
+struct Clock {
+    deadline: Option<Instant>,
+}
+
+impl Clock {
+    /// `limit`, or the time left if shorter; `None` when too little is left.
+    fn cap(&self, limit: Duration) -> Option<Duration> {
+        let Some(deadline) = self.deadline else {
+            return Some(limit);
+        };
+        let left = deadline
+            .saturating_duration_since(Instant::now())
+            .as_secs_f64()
+            - DEADLINE_MARGIN;
+        (left >= MIN_LEFT).then(|| limit.min(Duration::from_secs_f64(left)))
+    }
+
+    /// One timed run within the deadline; a time-out of a run cut short by
+    /// the deadline proves nothing, and counts as a failure.
+    fn time(&self, program: &ChildProgram, limits: &Limits, mesh: &Mesh, limit: Duration) -> Run {
+        let Some(capped) = self.cap(limit) else {
+            return Run::Failed;
+        };
+        match time_once(program, limits, mesh, capped) {
+            Run::TimedOut if capped < limit => Run::Failed,
+            other => other,
+        }
+    }
+
+    /// The fastest of `n` runs, or `None` when one did not finish right.
+    fn fastest(
+        &self,
+        program: &ChildProgram,
+        limits: &Limits,
+        mesh: &Mesh,
+        limit: Duration,
+        n: usize,
+    ) -> Option<Duration> {
+        let mut best: Option<Duration> = None;
+        for _ in 0..n {
+            match self.time(program, limits, mesh, limit) {
+                Run::Took(t) => best = Some(best.map_or(t, |b| b.min(t))),
+                Run::TimedOut | Run::Failed => return None,
+            }
+        }
+        best
+    }
+}
+
 /// Times `loop_subdivide` on the two icospheres, `timeout` seconds being
-/// the run's limit per call. `None` when it could not be measured (a run
-/// failed, or a time-out that proves nothing): then nothing is said.
-pub fn measure(program: &ChildProgram, limits: &Limits, timeout: f64) -> Option<Scaling> {
+/// the run's limit per call, every run ending before `deadline` when one is
+/// given. `None` when it could not be measured (a run failed, a time-out
+/// that proves nothing, too little time left): then nothing is said.
+pub fn measure(
+    program: &ChildProgram,
+    limits: &Limits,
+    timeout: f64,
+    deadline: Option<Instant>,
+) -> Option<Scaling> {
+    let clock = Clock { deadline };
     let small = halfedge::shapes::icosphere(SMALL_LEVEL);
     let large = halfedge::shapes::icosphere(LARGE_LEVEL);
     let faces = [small.num_faces(), large.num_faces()];
     let limit = Duration::from_secs_f64(timeout);
     let mut runs = SMALL_RUNS;
-    let small_time = fastest(program, limits, &small, limit, SMALL_RUNS)?.as_secs_f64();
+    let small_time = clock
+        .fastest(program, limits, &small, limit, SMALL_RUNS)?
+        .as_secs_f64();
     let large_limit = (small_time * LARGE_LIMIT_FACTOR)
         .max(MIN_LARGE_LIMIT)
         .min(timeout);
     runs += 1;
-    let large_time = match time_once(
+    let large_time = match clock.time(
         program,
         limits,
         &large,
@@ -262,8 +318,10 @@ pub fn measure(program: &ChildProgram, limits: &Limits, timeout: f64) -> Option<
     }
     // Above the threshold, not far: measured again before it is said, the
     // fastest run of each size counting (a time-out now keeps the first).
-    let again_small = fastest(program, limits, &small, limit, 2)?.as_secs_f64();
-    let again_large = match time_once(
+    let again_small = clock
+        .fastest(program, limits, &small, limit, 2)?
+        .as_secs_f64();
+    let again_large = match clock.time(
         program,
         limits,
         &large,
@@ -311,6 +369,26 @@ mod tests {
         assert!(Scaling::new([80, 1280], [0.001, 0.0641], false, 4).quadratic);
         let slow = Scaling::new([80, 1280], [0.002, 2.0], true, 4);
         assert!(slow.quadratic && slow.message().contains("did not finish within 2.00 s"));
+    }
+
+    #[test]
+    fn a_deadline_cuts_the_limits_and_gives_up_when_too_little_is_left() {
+        let free = Clock { deadline: None };
+        let ten = Duration::from_secs(10);
+        assert_eq!(free.cap(ten), Some(ten));
+        let soon = Clock {
+            deadline: Some(Instant::now() + Duration::from_secs(3)),
+        };
+        let capped = soon.cap(ten).expect("time is left");
+        assert!(capped < Duration::from_secs(3) && capped > Duration::from_secs(1));
+        assert_eq!(
+            soon.cap(Duration::from_millis(200)),
+            Some(Duration::from_millis(200))
+        );
+        let past = Clock {
+            deadline: Some(Instant::now() + Duration::from_millis(700)),
+        };
+        assert_eq!(past.cap(ten), None, "less than MIN_LEFT after the margin");
     }
 
     #[test]
