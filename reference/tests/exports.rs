@@ -290,6 +290,7 @@ fn handout_is_clean_builds_locked_updates_and_its_grading_workflow_runs() {
             "\"reference\"",
             "-p reference",
             "mutants",
+            "catalogue::",
             "<!-- ta -->",
         ] {
             assert!(!text.contains(marker), "{f} contains {marker:?}");
