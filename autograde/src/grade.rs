@@ -112,6 +112,13 @@ impl Built {
     pub fn compiler(&self) -> String {
         compiler_text(&self.log)
     }
+
+    /// Whether the compiler said anything beyond cargo's progress lines:
+    /// on a build that succeeded, that is warnings (rustc prints nothing
+    /// else then). A fact about the output, not a reading of its words.
+    pub fn said_something(&self) -> bool {
+        !self.compiler().is_empty()
+    }
 }
 
 /// Cargo's output without its progress lines, trimmed.

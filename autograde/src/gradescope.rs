@@ -435,7 +435,7 @@ fn grade_in(
         }
     }
     let mut notes = Vec::new();
-    if built.log.contains("warning") {
+    if built.said_something() {
         notes.push(format!(
             "Your code compiles with warnings:\n\n{}\n",
             grader::report::quoted::Quoted::new(compiler).block("")

@@ -123,7 +123,7 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
                 extra_args: Vec::new(),
             };
             let stages = grade::grade_stages(&grading, &left);
-            let notes = if built.log.contains("warning") {
+            let notes = if built.said_something() {
                 vec![format!(
                     "Your code compiles with warnings:\n\n{}",
                     grader::report::quoted::Quoted::new(compiler).block("")

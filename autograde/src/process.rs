@@ -50,15 +50,7 @@ pub fn run_limited(
 }
 
 /// Kills the process group `pgid` (gone already is fine).
-pub fn kill_group(pgid: u32) {
-    #[cfg(unix)]
-    if let Ok(pgid) = libc::pid_t::try_from(pgid) {
-        if pgid > 1 {
-            // SAFETY: kill only sends a signal; a negative pid names a group.
-            unsafe { libc::kill(-pgid, libc::SIGKILL) };
-        }
-    }
-}
+pub use grader::isolate::runner::kill_group;
 
 /// Makes this process the reaper of its orphaned descendants, so that
 /// [`sweep`] finds them. Returns whether the kernel agreed.

@@ -55,10 +55,8 @@ fn start_pass() -> Result<Child, String> {
 
 /// Ends a pass and everything in its process group.
 fn stop_pass(child: &mut Child) {
-    // SAFETY: a signal to the pass's own process group (its id is the pass's pid).
-    unsafe {
-        libc::kill(-(child.id() as libc::pid_t), libc::SIGKILL);
-    }
+    // The pass's own process group: its id is the pass's pid.
+    crate::isolate::runner::kill_group(child.id());
     let _ = child.wait();
 }
 

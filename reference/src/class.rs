@@ -351,80 +351,27 @@ fn for_nobody(
     sysroot: &Path,
 ) -> Result<PathBuf, String> {
     use std::os::unix::fs::PermissionsExt;
-    use std::os::unix::process::CommandExt;
-    let uid = autograde::process::nobody_uid().ok_or("there is no user nobody to build as")?;
     for dir in [scratch, build_dir] {
         std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o711))
             .map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     to_nobody(target)?;
-    let runs = |root: &Path| {
-        Command::new(root.join("bin/cargo"))
-            .arg("-V")
-            .current_dir("/")
-            .env_clear()
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .uid(uid)
-            .gid(uid)
-            .status()
-            .is_ok_and(|s| s.success())
-    };
-    if runs(sysroot) {
-        return Ok(sysroot.to_path_buf());
-    }
-    let copy = build_dir.join("toolchain");
-    let _ = std::fs::remove_dir_all(&copy);
-    std::fs::create_dir_all(&copy).map_err(|e| format!("{}: {e}", copy.display()))?;
-    std::fs::set_permissions(&copy, std::fs::Permissions::from_mode(0o755))
-        .map_err(|e| e.to_string())?;
-    for part in ["bin", "lib", "libexec", "etc"] {
-        let from = sysroot.join(part);
-        if !from.is_dir() {
-            continue;
-        }
-        let linked = Command::new("cp")
-            .args(["-a", "-l"])
-            .arg(&from)
-            .arg(copy.join(part))
-            .stderr(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success());
-        if !linked {
-            let _ = std::fs::remove_dir_all(copy.join(part));
-            let copied = Command::new("cp")
-                .arg("-a")
-                .arg(&from)
-                .arg(copy.join(part))
-                .status()
-                .is_ok_and(|s| s.success());
-            if !copied {
-                return Err(format!("cannot copy {} for user nobody", from.display()));
-            }
-        }
-    }
-    if !runs(&copy) {
-        return Err(format!(
-            "user nobody cannot run {}/bin/cargo, even from {}",
-            sysroot.display(),
-            copy.display()
-        ));
-    }
-    Ok(copy)
+    // The Gradescope setup's own way to a toolchain nobody can run.
+    let (root, _copied) = autograde::setup::reachable_toolchain(
+        sysroot,
+        &build_dir.join("toolchain"),
+        nobody_ids()?,
+    )?;
+    Ok(root)
+}
+
+fn nobody_ids() -> Result<(u32, u32), String> {
+    autograde::setup::build_user_ids().ok_or_else(|| "there is no user nobody to build as".into())
 }
 
 /// Makes `target` (a build's target folder) user nobody's.
 fn to_nobody(target: &Path) -> Result<(), String> {
-    let uid = autograde::process::nobody_uid().ok_or("there is no user nobody to build as")?;
-    let chown = Command::new("chown")
-        .args(["-R", &format!("{uid}:{uid}")])
-        .arg(target)
-        .status()
-        .map_err(|e| format!("cannot run chown: {e}"))?;
-    if !chown.success() {
-        return Err(format!("chown -R nobody {} failed", target.display()));
-    }
-    Ok(())
+    autograde::setup::chown_tree(target, nobody_ids()?)
 }
 
 /// Removes what the previous submission's build left in the shared target

@@ -584,9 +584,10 @@ fn supervise(build: &Build) -> i32 {
         let stopped = STOP.load(std::sync::atomic::Ordering::Relaxed);
         if stopped || start.elapsed() >= limit {
             timed_out = !stopped;
-            // SAFETY: the child's session is its process group.
+            // The child's session is its process group.
+            crate::isolate::runner::kill_group(pid as u32);
+            // SAFETY: waits for our own child.
             unsafe {
-                libc::kill(-pid, libc::SIGKILL);
                 libc::waitpid(pid, &mut wait_status, 0);
             }
             break;
@@ -657,8 +658,7 @@ fn pass_on(mut from: std::fs::File) {
 fn sweep(session: libc::pid_t) {
     let me = std::process::id().to_string();
     for _ in 0..50 {
-        // SAFETY: signals to the build's own group and to our children.
-        unsafe { libc::kill(-session, libc::SIGKILL) };
+        crate::isolate::runner::kill_group(session as u32);
         let mut any = false;
         for entry in std::fs::read_dir("/proc").into_iter().flatten().flatten() {
             let Ok(pid) = entry.file_name().to_string_lossy().parse::<libc::pid_t>() else {

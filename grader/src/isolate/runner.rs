@@ -271,10 +271,15 @@ fn sweep_unless_contained(sandbox_status: &Option<String>) {
     }
 }
 
-fn kill_group(pgid: u32) {
-    // SAFETY: a plain system call; the group is the child's own.
-    unsafe {
-        libc::kill(-(pgid as i32), libc::SIGKILL);
+/// Kills process group `pgid` (SIGKILL): the one way the lab kills a
+/// group. Ids 0 and 1 are refused, since `kill(0)` would signal our own
+/// group and `kill(-1)` every process we may signal.
+pub fn kill_group(pgid: u32) {
+    if let Ok(pgid) = libc::pid_t::try_from(pgid) {
+        if pgid > 1 {
+            // SAFETY: kill only sends a signal; a negative pid names a group.
+            unsafe { libc::kill(-pgid, libc::SIGKILL) };
+        }
     }
 }
 
