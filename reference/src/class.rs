@@ -28,7 +28,8 @@ use autograde::upload::{find_lib_rs, is_link};
 use grader::isolate::build_sandbox::{Build, Outcome};
 use grader::report::quoted::{self, Quoted};
 
-use crate::handout::{self, Purpose};
+use crate::handout::{self, private_temp_dir, Purpose};
+use tempfile::TempDir;
 
 /// One entry of the submissions folder.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -277,42 +278,17 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
     Ok(std::process::ExitCode::SUCCESS)
 }
 
-/// A name no one can guess: 128 bits from std's `RandomState`, whose keys
-/// come from the operating system's random source.
-fn unpredictable_name(prefix: &str) -> String {
-    use std::hash::BuildHasher;
-    let mut name = String::from(prefix);
-    for part in 0..2u8 {
-        let bits = std::collections::hash_map::RandomState::new().hash_one((part, Instant::now()));
-        let _ = write!(name, "{bits:016x}");
-    }
-    name
-}
-
 /// A private copy of the class's `fixtures` with the fresh cases of the
 /// submission `lib_rs` added (its seed from the hidden cases' digest list
 /// and the file's bytes), and that seed.
-fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(RemovedAtEnd, u64), String> {
+fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(TempDir, u64), String> {
     let secret = crate::fresh::secret_of(fixtures)?;
     let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
     let seed = crate::fresh::seed_for(&secret, &bytes);
-    let dir = std::env::temp_dir().join(unpredictable_name("meshlab-fresh-"));
-    autograde::private_dir(&dir)?;
-    let guard = RemovedAtEnd(vec![dir.clone()]);
-    copy_keeping_times(fixtures, &dir)?;
-    crate::fresh::write(&dir, seed, crate::solution::Weights::Warren)?;
-    Ok((guard, seed))
-}
-
-/// Removes its folders when dropped, whichever way grading ends.
-struct RemovedAtEnd(Vec<PathBuf>);
-
-impl Drop for RemovedAtEnd {
-    fn drop(&mut self) {
-        for dir in &self.0 {
-            let _ = std::fs::remove_dir_all(dir);
-        }
-    }
+    let dir = private_temp_dir("meshlab-fresh-")?;
+    copy_keeping_times(fixtures, dir.path())?;
+    crate::fresh::write(dir.path(), seed, crate::solution::Weights::Warren)?;
+    Ok((dir, seed))
 }
 
 /// Copies `from` into `to` keeping modification times, so that cargo sees
@@ -434,11 +410,10 @@ pub fn grade_class(
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // Outside the lab (a copy may not land inside what it copies), under
     // names no student can guess.
-    let scratch = std::env::temp_dir().join(unpredictable_name("meshlab-class-"));
-    let fixtures = std::env::temp_dir().join(unpredictable_name("meshlab-fixtures-"));
-    let _cleanup = RemovedAtEnd(vec![scratch.clone(), fixtures.clone()]);
-    autograde::private_dir(&scratch)?;
-    autograde::private_dir(&fixtures)?;
+    // Private (0700) and removed when dropped, whichever way grading ends.
+    let scratch_dir = private_temp_dir("meshlab-class-")?;
+    let fixtures_dir = private_temp_dir("meshlab-fixtures-")?;
+    let (scratch, fixtures) = (scratch_dir.path(), fixtures_dir.path());
     let template = scratch.join("template");
     handout::copy_lab(root, &template, Purpose::Grading)?;
     let mut commits = String::new();
@@ -467,7 +442,7 @@ pub fn grade_class(
             std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
         }
     }
-    let mut counts = grade::counted(&fixtures, options.bonus);
+    let mut counts = grade::counted(fixtures, options.bonus);
     if options.fresh {
         // Fresh cases are single operations: flip, split, subdivide.
         for (k, n) in [0, 1, 3]
@@ -542,9 +517,9 @@ pub fn grade_class(
     let jobs = options.jobs.clamp(1, queue.len().max(1));
     // Nothing to build when every result is already there.
     let (workers, _cleanup_build) = if queue.is_empty() {
-        (Vec::new(), RemovedAtEnd(Vec::new()))
+        (Vec::new(), None)
     } else {
-        prepare_workers(root, &template, &scratch, jobs, options)?
+        prepare_workers(root, &template, scratch, jobs, options)?
     };
 
     let started = Instant::now();
@@ -712,18 +687,22 @@ pub fn grade_class(
     Ok(rows)
 }
 
+/// Each worker's build and grader program.
+type Workers = Vec<(Build, PathBuf)>;
+
 /// The workers' builds: the build folder (vendored dependencies, and the
 /// lab built once there, locked in like every build), then per worker a
 /// copy of the lab and a target folder of its own. Returns each worker's
-/// build and grader program, and the build folder's remover.
+/// build and grader program, and the build folder's remover (a temporary
+/// one, when no `--build-dir` was given).
 fn prepare_workers(
     root: &Path,
     template: &Path,
     scratch: &Path,
     jobs: usize,
     options: &Options,
-) -> Result<(Vec<(Build, PathBuf)>, RemovedAtEnd), String> {
-    let build_dir = match &options.build_dir {
+) -> Result<(Workers, Option<TempDir>), String> {
+    let (build_dir, _cleanup_build) = match &options.build_dir {
         Some(dir) => {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
             let dir = dir.canonicalize().map_err(|e| e.to_string())?;
@@ -735,23 +714,17 @@ fn prepare_workers(
                     dir.display()
                 ));
             }
-            dir
+            (dir, None)
         }
         None => {
-            let dir = std::env::temp_dir().join(unpredictable_name("meshlab-build-"));
-            autograde::private_dir(&dir)?;
-            dir
+            let dir = private_temp_dir("meshlab-build-")?;
+            (dir.path().to_path_buf(), Some(dir))
         }
     };
     // Each worker's copy of the lab, at the same place in every run, so
     // that cargo finds the lab's own crates built (their paths are in
     // their fingerprints); restored from the template for each student.
     let work = build_dir.join("lab");
-    let _cleanup_build = RemovedAtEnd(if options.build_dir.is_none() {
-        vec![build_dir.clone()]
-    } else {
-        Vec::new()
-    });
     let target = build_dir.join("target");
     let vendor = build_dir.join("vendor");
     // The dependencies' sources, out of the TA's cargo home (which holds
@@ -1411,9 +1384,7 @@ fn grade_one(
     } else {
         None
     };
-    let fixtures = fresh
-        .as_ref()
-        .map_or(fixtures, |(dir, _)| dir.0[0].as_path());
+    let fixtures = fresh.as_ref().map_or(fixtures, |(dir, _)| dir.path());
 
     // One grader run per stage, the budget shared out by the runs each
     // makes; each under a reaper that sweeps what the submission left.
