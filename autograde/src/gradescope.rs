@@ -328,11 +328,11 @@ fn grade_upload(places: &Places, options: &Options, log: &Log) -> Value {
         Err(e) => return not_graded(format!("{rel}: {e}")),
     };
     // Root's alone: the fixtures copied into it hold the hidden cases.
-    let work = std::env::temp_dir().join(format!("meshlab-grading-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&work);
-    if let Err(e) = crate::private_dir(&work) {
-        return setup_error(log, &e, max);
-    }
+    let work_dir = match crate::private_temp_dir("meshlab-grading-") {
+        Ok(d) => d,
+        Err(e) => return setup_error(log, &e, max),
+    };
+    let work = work_dir.path().to_path_buf();
     let outcome = grade_in(
         places, options, &settings, &text, &work, counts, log, &remaining,
     );

@@ -22,6 +22,20 @@ use std::path::Path;
 
 use grader::report::quoted::{self, Quoted};
 
+/// A new temporary folder only this user may enter (0700), under a name
+/// nobody can guess, removed when dropped.
+pub fn private_temp_dir(prefix: &str) -> Result<tempfile::TempDir, String> {
+    tempfile::Builder::new()
+        .prefix(prefix)
+        .tempdir()
+        .map_err(|e| {
+            format!(
+                "cannot make a temporary folder in {}: {e}",
+                std::env::temp_dir().display()
+            )
+        })
+}
+
 /// A new folder only this user may enter (it fails if the name is taken:
 /// nobody else's folder or link is ever used).
 pub fn private_dir(path: &Path) -> Result<(), String> {

@@ -80,9 +80,8 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
             .ok_or("the lab has no parent folder")?
             .join("vendor"),
     };
-    let work = std::env::temp_dir().join(format!("meshlab-local-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&work);
-    crate::private_dir(&work)?;
+    let work_dir = crate::private_temp_dir("meshlab-local-")?;
+    let work = work_dir.path().to_path_buf();
     let target = local.target.clone().unwrap_or_else(|| work.join("target"));
     let build = Build {
         lab: local.lab.clone(),

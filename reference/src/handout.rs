@@ -460,21 +460,7 @@ pub fn update(root: &Path, dest: &Path) -> Result<Updated, String> {
     })()
 }
 
-/// A new temporary folder only this user may enter, under an unguessable
-/// name (so nobody else's folder or link is used), removed with everything
-/// in it when the value is dropped. Every temporary folder the TA tool
-/// makes for itself comes from here.
-pub fn private_temp_dir(prefix: &str) -> Result<tempfile::TempDir, String> {
-    tempfile::Builder::new()
-        .prefix(prefix)
-        .tempdir()
-        .map_err(|e| {
-            format!(
-                "cannot make a temporary folder in {}: {e}",
-                std::env::temp_dir().display()
-            )
-        })
-}
+pub use autograde::private_temp_dir;
 
 /// How the Gradescope bundle grades.
 #[derive(Clone, Copy, Debug)]
