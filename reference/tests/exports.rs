@@ -1839,39 +1839,15 @@ fn handout_exports_a_reformatted_workspace_manifest() {
 /// Headless Chromium's DOM of the page at `path` (`None`, after saying so,
 /// where there is no Chromium; a failure under CI or the full tier).
 fn chromium_dom(path: &Path) -> Option<String> {
-    let exe = std::env::var_os("CHROMIUM").map(PathBuf::from).or_else(|| {
-        let dirs = std::env::var_os("PATH").unwrap_or_default();
-        std::env::split_paths(&dirs)
-            .flat_map(|d| ["chromium", "chromium-browser"].map(|n| d.join(n)))
-            .find(|p| p.is_file())
-    });
-    let Some(exe) = exe else {
-        skip("no Chromium for the class overview (set CHROMIUM=/path/to/chrome)");
+    if !have_chromium() {
         return None;
-    };
-    let profile = path.with_file_name("chromium-profile");
-    let out = Command::new("timeout")
-        .arg("60")
-        .arg(exe)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--dump-dom",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("file://{}", path.display()))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    Some(String::from_utf8_lossy(&out.stdout).into_owned())
+    }
+    let work = path.with_file_name("chromium");
+    Some(browse(
+        &work,
+        &["--dump-dom"],
+        &format!("file://{}", path.display()),
+    ))
 }
 
 /// Issue 19's class: 40 entries (names that clash, 19 copies of one file,

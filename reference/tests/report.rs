@@ -7,14 +7,14 @@
 //! `cargo xtask test` finds or installs it; plain `cargo test` without it
 //! says SKIPPED (a failure under CI).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
 
 use serde_json::Value;
 
 mod common;
-use common::scratch;
+use common::{browse, have_chromium, scratch};
 
 /// Grades an implementation of the catalogue with `--report DIR`: the exit
 /// code and standard output.
@@ -34,87 +34,6 @@ fn grade(args: &[&str], report: &Path) -> (i32, String) {
         String::from_utf8_lossy(&out.stderr)
     );
     (out.status.code().unwrap_or(-1), stdout)
-}
-
-/// The browser: `$CHROMIUM`, else `chromium` or `chromium-browser` on the
-/// PATH.
-fn chromium() -> Option<PathBuf> {
-    if let Some(path) = std::env::var_os("CHROMIUM") {
-        return Some(PathBuf::from(path));
-    }
-    let path = std::env::var_os("PATH").unwrap_or_default();
-    std::env::split_paths(&path)
-        .flat_map(|dir| ["chromium", "chromium-browser"].map(|name| dir.join(name)))
-        .find(|exe| exe.is_file())
-}
-
-/// Whether the browser tests can run here; if not, the skip says how to
-/// get Chromium (and fails under CI or `cargo xtask test`).
-fn have_chromium() -> bool {
-    let found = chromium().is_some();
-    if !found {
-        common::skip(
-            "the report tests need Chromium and none was found on the PATH: run \
-             `cargo xtask test` (installs Debian's `chromium` as root), or install it \
-             (`apt-get install chromium`) or set CHROMIUM=/path/to/chrome",
-        );
-    }
-    found
-}
-
-/// Runs headless Chromium on `url` with `extra` options and returns its
-/// standard output; killed after a minute.
-fn browse(work: &Path, extra: &[&str], url: &str) -> String {
-    let profile = work.join("chromium-profile");
-    std::fs::create_dir_all(&profile).unwrap();
-    let mut child = Command::new(chromium().expect("checked by have_chromium"))
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--hide-scrollbars",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .args(extra)
-        .arg(url)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("chromium starts");
-    // Read while it runs: a large page's DOM fills the pipe otherwise.
-    let drain = |mut pipe: Box<dyn std::io::Read + Send>| {
-        std::thread::spawn(move || {
-            let mut bytes = Vec::new();
-            let _ = pipe.read_to_end(&mut bytes);
-            bytes
-        })
-    };
-    let stdout = drain(Box::new(child.stdout.take().unwrap()));
-    let stderr = drain(Box::new(child.stderr.take().unwrap()));
-    let deadline = Instant::now() + Duration::from_secs(60);
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("chromium can be waited for") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("chromium did not finish within a minute on {url}");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let stdout = stdout.join().unwrap();
-    let stderr = stderr.join().unwrap();
-    assert!(
-        status.success(),
-        "chromium failed on {url}: {}",
-        String::from_utf8_lossy(&stderr)
-    );
-    String::from_utf8_lossy(&stdout).into_owned()
 }
 
 /// A page that loads the report in a frame and writes, once it is laid

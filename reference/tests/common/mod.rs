@@ -1,9 +1,9 @@
 //! Helpers shared by the reference's integration tests: running the
-//! reference binary and scratch folders. (Each test file uses some of them.)
+//! reference binary, scratch folders and headless Chromium. (Each test file uses some of them.)
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// How a run of the reference binary ended.
@@ -182,4 +182,85 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         roster: None,
         assignment: "Mesh lab".into(),
     }
+}
+
+/// The browser: `$CHROMIUM`, else `chromium` or `chromium-browser` on the
+/// PATH.
+pub fn chromium() -> Option<PathBuf> {
+    if let Some(path) = std::env::var_os("CHROMIUM") {
+        return Some(PathBuf::from(path));
+    }
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .flat_map(|dir| ["chromium", "chromium-browser"].map(|name| dir.join(name)))
+        .find(|exe| exe.is_file())
+}
+
+/// Whether the browser tests can run here; if not, the skip says how to
+/// get Chromium (and fails under CI or `cargo xtask test`).
+pub fn have_chromium() -> bool {
+    let found = chromium().is_some();
+    if !found {
+        skip(
+            "the browser tests need Chromium and none was found on the PATH: run \
+             `cargo xtask test` (installs Debian's `chromium` as root), or install it \
+             (`apt-get install chromium`) or set CHROMIUM=/path/to/chrome",
+        );
+    }
+    found
+}
+
+/// Runs headless Chromium on `url` with `extra` options and returns its
+/// standard output; killed after a minute.
+pub fn browse(work: &Path, extra: &[&str], url: &str) -> String {
+    let profile = work.join("chromium-profile");
+    std::fs::create_dir_all(&profile).unwrap();
+    let mut child = Command::new(chromium().expect("checked by have_chromium"))
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--hide-scrollbars",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(extra)
+        .arg(url)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("chromium starts");
+    // Read while it runs: a large page's DOM fills the pipe otherwise.
+    let drain = |mut pipe: Box<dyn std::io::Read + Send>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            let _ = pipe.read_to_end(&mut bytes);
+            bytes
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("chromium can be waited for") {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("chromium did not finish within a minute on {url}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let stdout = stdout.join().unwrap();
+    let stderr = stderr.join().unwrap();
+    assert!(
+        status.success(),
+        "chromium failed on {url}: {}",
+        String::from_utf8_lossy(&stderr)
+    );
+    String::from_utf8_lossy(&stdout).into_owned()
 }
