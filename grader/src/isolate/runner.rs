@@ -45,6 +45,9 @@ const SETUP_GRACE: Duration = Duration::from_secs(2);
 /// How long to wait for pipes to close once the child is dead.
 const CLOSE_GRACE: Duration = Duration::from_millis(500);
 
+/// How long ending a child waits for it to be reaped after SIGKILL.
+const END_GRACE: Duration = Duration::from_secs(2);
+
 /// How to start the child program (the one linked with the functions
 /// being graded). The launcher (this program) starts it.
 #[derive(Clone, Debug)]
@@ -535,6 +538,20 @@ impl Live {
     fn end(&mut self) {
         self.requests = None;
         kill_group(self.pid);
+        // SIGKILL is delivered, not done: wait (briefly) until the launcher
+        // is reaped, so nothing of the case is still running when the
+        // grader moves on or exits.
+        let deadline = Instant::now() + END_GRACE;
+        while self.status.is_none() {
+            match self
+                .events
+                .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            {
+                Ok(Event::Exited(s)) => self.status = Some(s),
+                Ok(_) => {}
+                Err(_) => break,
+            }
+        }
         active().retain(|&p| p != self.pid);
         sweep_unless_contained(&self.sandbox);
     }
