@@ -155,6 +155,8 @@ fn with_fresh_cases(
 struct Settings {
     toolchain: PathBuf,
     target: PathBuf,
+    /// The vendored crates the builds compile.
+    vendor: PathBuf,
     /// Build (and run the case child) as `nobody`.
     drop_user: bool,
 }
@@ -175,6 +177,7 @@ fn read_settings(places: &Places) -> Result<Settings, String> {
     Ok(Settings {
         toolchain: path("toolchain")?,
         target: path("target")?,
+        vendor: path("vendor")?,
         drop_user,
     })
 }
@@ -188,7 +191,7 @@ fn locked_build(
 ) -> Result<grade::Built, String> {
     let build = Build {
         lab: places.lab(),
-        vendor: places.vendor(),
+        vendor: settings.vendor.clone(),
         sysroot: settings.toolchain.clone(),
         target: settings.target.clone(),
         memory: BUILD_MEMORY,

@@ -6,7 +6,8 @@
 //! - `autograde gradescope-setup`: once per image, after `run_autograder
 //!   --setup` built this program (`setup::gradescope`: fixtures, vendored
 //!   crates, the build user's toolchain and target folder, the first
-//!   locked-in build); `MESHLAB_BUILD_TARGET` names the target folder.
+//!   locked-in build); `MESHLAB_BUILD_TARGET` and `MESHLAB_VENDOR` name
+//!   the target folder and the vendored crates (tests).
 //! - `autograde gradescope-warm`: the first locked-in build alone.
 //! - `autograde classroom50 --lab DIR`: Classroom 50's step (its
 //!   `autograder.py` runs it in the student's checkout): writes
