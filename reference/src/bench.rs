@@ -156,10 +156,10 @@ fn subdivide_in_phases(mesh: &mut Mesh, times: &mut [f64; 5]) {
     lap(1, times);
     solution::reserve_round(mesh);
     let old: Vec<EdgeId> = mesh.edge_ids().collect();
-    solution::split_edges(mesh, &old, solution::split_edge);
+    let old_new = solution::split_edges(mesh, &old, solution::split_edge);
+    drop(old);
     lap(2, times);
-    let all: Vec<EdgeId> = mesh.edge_ids().collect();
-    solution::flip_old_new(mesh, &all, solution::flip_edge);
+    solution::flip_listed(mesh, &old_new, solution::flip_edge);
     lap(3, times);
     solution::move_vertices(mesh);
     lap(4, times);

@@ -260,9 +260,9 @@ pub fn loop_subdivide_with(mesh: &mut Mesh, weights: Weights) {
     }
     reserve_round(mesh);
     let old_edges: Vec<EdgeId> = mesh.edge_ids().collect();
-    split_edges(mesh, &old_edges, split_edge);
-    let all_edges: Vec<EdgeId> = mesh.edge_ids().collect();
-    flip_old_new(mesh, &all_edges, flip_edge);
+    let old_new = split_edges(mesh, &old_edges, split_edge);
+    drop(old_edges);
+    flip_listed(mesh, &old_new, flip_edge);
     move_vertices(mesh);
 }
 
@@ -454,17 +454,27 @@ fn fetch_for(mesh: &Mesh, edges: &[EdgeId], i: usize) {
 /// Step 2: splits each of `edges` (the old ones) with `split`. The new
 /// vertex is new; of the edges at it, those across the old edge are new,
 /// the two halves of the old edge are not.
+///
+/// Returns the new edges whose far end is an old vertex: the ones step 3
+/// flips, found here where their records are still in the cache. An edge's
+/// ends change only when it is split or flipped, and only old edges are
+/// split, so they are exactly the old-new edges after the last split. In id
+/// order (as [`flip_old_new`] takes them) when `split` gives what it
+/// creates new ids, as [`split_edge`] does: each split's are sorted.
 pub fn split_edges(
     mesh: &mut Mesh,
     edges: &[EdgeId],
     split: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
-) {
+) -> Vec<EdgeId> {
+    // Two across each old edge between triangles, one beside a hole.
+    let mut old_new = Vec::with_capacity(2 * edges.len());
     for (i, &e) in edges.iter().enumerate() {
         fetch_for(mesh, edges, i);
         let (a, b) = mesh.edge_vertices(e);
         let m = split(mesh, e).expect("split_edge returned None for an edge of a triangle mesh");
         mesh[m].is_new = true;
         mesh[m].new_pos = mesh[e].new_pos;
+        let first = old_new.len();
         // Around m, as `vertex_halfedges(m)` would, without collecting.
         let start = mesh[m].halfedge;
         let mut h = start;
@@ -473,7 +483,11 @@ pub fn split_edges(
             let t = mesh[h].twin;
             let end = mesh[t].vertex;
             let edge = mesh[h].edge;
-            mesh[edge].is_new = end != a && end != b;
+            let across = end != a && end != b;
+            mesh[edge].is_new = across;
+            if across && !mesh[end].is_new {
+                old_new.push(edge);
+            }
             h = mesh[t].next;
             steps += 1;
             if h == start {
@@ -486,11 +500,26 @@ pub fn split_edges(
                 );
             }
         }
+        old_new[first..].sort_unstable();
+    }
+    old_new
+}
+
+/// Step 3 as [`loop_subdivide`] does it: flips each of `edges`, the list
+/// [`split_edges`] returned.
+pub fn flip_listed(
+    mesh: &mut Mesh,
+    edges: &[EdgeId],
+    flip: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
+) {
+    for (i, &e) in edges.iter().enumerate() {
+        fetch_for(mesh, edges, i);
+        flip(mesh, e);
     }
 }
 
-/// Step 3: flips each of `edges` that is new and joins an old vertex to a
-/// new one.
+/// Step 3, from any list of edges: flips each of `edges` that is new and
+/// joins an old vertex to a new one, in the list's order.
 pub fn flip_old_new(
     mesh: &mut Mesh,
     edges: &[EdgeId],

@@ -260,3 +260,36 @@ fn flip_refuses_non_triangles_and_split_too() {
     assert_eq!(m.num_vertices(), 5);
     m.validate().unwrap();
 }
+
+/// `loop_subdivide` flips the list `split_edges` returns instead of
+/// looking at every edge afterwards: on every primitive (holes too), and on
+/// a mesh already subdivided and flipped at random, the list must be the
+/// old-new edges, in id order, that `flip_old_new` would flip.
+#[test]
+fn the_split_pass_lists_exactly_the_edges_to_flip() {
+    let mut meshes = primitives();
+    let mut scrambled = shapes::torus(6, 4, 2.0, 0.5);
+    solution::loop_subdivide(&mut scrambled);
+    let mut rng = Rng(0x5eed);
+    for _ in 0..200 {
+        let e = EdgeId::from_index(rng.below(scrambled.num_edges()));
+        solution::flip_edge(&mut scrambled, e);
+    }
+    meshes.push(("torus, subdivided and flipped", scrambled));
+    for (name, mut mesh) in meshes {
+        solution::vertex_points(&mut mesh, Weights::Warren);
+        assert!(solution::edge_points(&mut mesh), "{name}");
+        solution::reserve_round(&mut mesh);
+        let old: Vec<EdgeId> = mesh.edge_ids().collect();
+        let listed = solution::split_edges(&mut mesh, &old, solution::split_edge);
+        let wanted: Vec<EdgeId> = mesh
+            .edge_ids()
+            .filter(|&e| {
+                let (a, b) = mesh.edge_vertices(e);
+                mesh[e].is_new && mesh[a].is_new != mesh[b].is_new
+            })
+            .collect();
+        assert!(!wanted.is_empty(), "{name}");
+        assert_eq!(listed, wanted, "{name}");
+    }
+}
