@@ -514,7 +514,41 @@ pub fn flip_listed(
 ) {
     for (i, &e) in edges.iter().enumerate() {
         fetch_for(mesh, edges, i);
+        // The duplicate check's walk around c, its first steps.
+        for (ahead, step) in [(4, 0), (2, 1), (1, 2)] {
+            fetch_ring(mesh, edges.get(i + ahead), step);
+        }
         flip(mesh, e);
+    }
+}
+
+/// Fetches ahead what the first steps of `joined_elsewhere`'s walk around
+/// c will read for `e`: `step` 0 the twin of c->a, 1 that one's next (the
+/// walk's first halfedge g), 2 g's twin. Each reads only records the
+/// earlier waves and steps fetched.
+#[inline(always)]
+fn fetch_ring(mesh: &Mesh, e: Option<&EdgeId>, step: usize) {
+    let Some(&e) = e else { return };
+    let (_, _, _, halfedges) = mesh.records();
+    let h = mesh[e].halfedge;
+    let Some(h2) = halfedges
+        .get(h.index())
+        .and_then(|hr| halfedges.get(hr.next.index()))
+        .and_then(|h1| halfedges.get(h1.next.index()))
+    else {
+        return;
+    };
+    if step == 0 {
+        return prefetch(halfedges, h2.twin.index());
+    }
+    let Some(ac) = halfedges.get(h2.twin.index()) else {
+        return;
+    };
+    if step == 1 {
+        return prefetch(halfedges, ac.next.index());
+    }
+    if let Some(g) = halfedges.get(ac.next.index()) {
+        prefetch(halfedges, g.twin.index());
     }
 }
 
