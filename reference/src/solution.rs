@@ -458,9 +458,10 @@ fn fetch_for(mesh: &Mesh, edges: &[EdgeId], i: usize) {
 /// Returns the new edges whose far end is an old vertex: the ones step 3
 /// flips, found here where their records are still in the cache. An edge's
 /// ends change only when it is split or flipped, and only old edges are
-/// split, so they are exactly the old-new edges after the last split. In id
-/// order (as [`flip_old_new`] takes them) when `split` gives what it
-/// creates new ids, as [`split_edge`] does: each split's are sorted.
+/// split, so they are exactly the old-new edges after the last split. They
+/// come in id order (the order [`flip_old_new`] flips in) when `split`
+/// gives the edges it makes new ids, as [`split_edge`] does: each split's
+/// are sorted.
 pub fn split_edges(
     mesh: &mut Mesh,
     edges: &[EdgeId],
