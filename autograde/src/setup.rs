@@ -170,6 +170,14 @@ fn checked(cmd: &mut Command, what: &str) -> Result<String, String> {
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
+/// The folder the environment variable `key` names, unless it is unset or
+/// empty (the tests' way to share folders between runs).
+fn folder_from_env(key: &str) -> Option<PathBuf> {
+    std::env::var_os(key)
+        .filter(|dir| !dir.is_empty())
+        .map(PathBuf::from)
+}
+
 /// Gradescope's setup, as root once per image (or as a TA trying the
 /// bundle): the fixtures graded against in `meshlab/fixtures` (mode 700,
 /// the hidden cases moved out of the lab), the bundle's fresh-case sets
@@ -249,10 +257,7 @@ pub fn gradescope(places: &Places, log: &dyn Fn(&str)) -> Result<(), String> {
 
     // The dependencies' sources, readable by the build user (root's cargo
     // home may not be); setup.sh fetched them.
-    let vendor = match std::env::var_os("MESHLAB_VENDOR") {
-        Some(dir) if !dir.is_empty() => PathBuf::from(dir),
-        _ => places.vendor(),
-    };
+    let vendor = folder_from_env("MESHLAB_VENDOR").unwrap_or_else(|| places.vendor());
     let vendor = io(std::path::absolute(&vendor), &vendor)?;
     let _ = std::fs::remove_dir_all(&vendor);
     checked(
@@ -282,9 +287,9 @@ pub fn gradescope(places: &Places, log: &dyn Fn(&str)) -> Result<(), String> {
 
     // The build's only writable folder, outside the lab, under a name
     // that leads nowhere (the student's code sees it in CARGO_TARGET_DIR).
-    let target = match std::env::var_os("MESHLAB_BUILD_TARGET") {
-        Some(dir) if !dir.is_empty() => PathBuf::from(dir),
-        _ => {
+    let target = match folder_from_env("MESHLAB_BUILD_TARGET") {
+        Some(dir) => dir,
+        None => {
             let var_tmp = Path::new("/var/tmp");
             let parent = if var_tmp.is_dir() { var_tmp } else { &state };
             parent.join(format!("meshlab-build-{}", unguessable()?))
