@@ -3,7 +3,8 @@
 //!
 //! - [`sandbox`]: the launcher that locks the child in (Landlock, rlimits,
 //!   namespaces, dropping root); [`seccomp`]: its system-call filter.
-//! - [`runner`]: starting, timing and killing the child; [`end`]: how a
+//! - [`runner`]: starting, timing and killing the child ([`spawn`]: how
+//!   the launcher starts, in a session of its own); [`end`]: how a
 //!   case ended, the one type the judge and the reports read.
 //! - [`wire`]: what crosses the pipes, in both directions.
 //! - [`child`]: the child's side ([`child::serve`]) and the parent's
@@ -17,4 +18,6 @@ pub mod end;
 pub mod runner;
 pub mod sandbox;
 pub mod seccomp;
+#[cfg(target_os = "linux")]
+pub mod spawn;
 pub mod wire;

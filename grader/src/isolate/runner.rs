@@ -445,6 +445,72 @@ fn first_nul(bytes: &[u8]) -> Option<usize> {
     (!p.is_null()).then(|| p as usize - bytes.as_ptr() as usize)
 }
 
+/// A started launcher: its pid (its session and process group too), the
+/// grader's ends of its pipes, and how to reap it.
+struct Launched {
+    pid: u32,
+    stdin: Box<dyn Write + Send>,
+    stdout: Box<dyn Read + Send>,
+    stderr: Box<dyn Read + Send>,
+    wait: Box<dyn FnOnce() -> std::io::Result<ExitStatus> + Send>,
+}
+
+/// Starts the launcher in a session of its own (and so its own process
+/// group, killed as one) from before it runs any code: it never holds the
+/// grader's terminal, and code stuck before `main` is in the group too.
+/// On Linux without copying the grader's memory ([`spawn`](super::spawn));
+/// elsewhere, or on a C library without `POSIX_SPAWN_SETSID`, by `fork`
+/// with `setsid` before the exec.
+fn start_launcher(
+    launcher: &std::path::Path,
+    args: &[OsString],
+    env: &[(OsString, OsString)],
+) -> std::io::Result<Launched> {
+    #[cfg(target_os = "linux")]
+    {
+        use super::spawn::{self, SpawnError};
+        match spawn::start(launcher, args, env) {
+            Ok(s) => {
+                let pid = s.pid;
+                return Ok(Launched {
+                    pid,
+                    stdin: Box::new(s.stdin),
+                    stdout: Box::new(s.stdout),
+                    stderr: Box::new(s.stderr),
+                    wait: Box::new(move || spawn::wait(pid)),
+                });
+            }
+            Err(SpawnError::Io(e)) => return Err(e),
+            Err(SpawnError::NoSessionFlag) => {}
+        }
+    }
+    let mut cmd = Command::new(launcher);
+    cmd.args(args)
+        .env_clear()
+        .envs(env.iter().map(|(k, v)| (k, v)))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // SAFETY: setsid is async-signal-safe and touches no memory.
+    unsafe {
+        use std::os::unix::process::CommandExt;
+        cmd.pre_exec(|| {
+            if libc::setsid() < 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let mut child = cmd.spawn()?;
+    Ok(Launched {
+        pid: child.id(),
+        stdin: Box::new(child.stdin.take().expect("piped")),
+        stdout: Box::new(child.stdout.take().expect("piped")),
+        stderr: Box::new(child.stderr.take().expect("piped")),
+        wait: Box::new(move || child.wait()),
+    })
+}
+
 /// A child that is alive between calls.
 struct Live {
     pid: u32,
@@ -468,42 +534,31 @@ impl Live {
         program: &ChildProgram,
         limits: &Limits,
     ) -> std::io::Result<Result<Live, ChildReport>> {
-        use std::os::unix::process::CommandExt;
         let exe = match runnable_program(&program.exe, limits) {
             Ok(exe) => exe,
             Err(why) => return Ok(Err(ChildReport::bare(CaseEnd::SandboxFailed { why }))),
         };
         let launcher = std::env::current_exe()?;
-        let mut cmd = Command::new(launcher);
-        cmd.args(sandbox::launcher_args(limits, &exe, &program.args))
-            .env_clear()
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped());
-        if let Some(log) = std::env::var_os("RUST_LOG") {
-            cmd.env("RUST_LOG", log);
-        }
-        // Its own session (and so its own process group, killed as one), from
-        // before the launcher runs any code: it never holds the grader's
-        // terminal, and code stuck before `main` is in the group too.
-        // SAFETY: setsid is async-signal-safe and touches no memory.
-        unsafe {
-            cmd.pre_exec(|| {
-                if libc::setsid() < 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-        let mut child = {
+        let args = sandbox::launcher_args(limits, &exe, &program.args);
+        let env: Vec<(OsString, OsString)> = std::env::var_os("RUST_LOG")
+            .map(|log| ("RUST_LOG".into(), log))
+            .into_iter()
+            .collect();
+        let started = {
+            // Listed before the sweep can see it.
             let mut running = active();
-            let child = cmd.spawn()?;
-            running.push(child.id());
-            child
+            let started = start_launcher(&launcher, &args, &env)?;
+            running.push(started.pid);
+            started
         };
-        let pid = child.id();
+        let Launched {
+            pid,
+            mut stdin,
+            stdout,
+            stderr,
+            wait,
+        } = started;
         let (tx, events) = mpsc::channel();
-        let mut stdin = child.stdin.take().expect("piped");
         let (requests, queued) = mpsc::channel::<Vec<u8>>();
         thread::spawn(move || {
             // Fails harmlessly if the child never reads them.
@@ -514,10 +569,10 @@ impl Live {
             }
         });
         let cap = Arc::new(AtomicUsize::new(0));
-        watch_frames(child.stdout.take().expect("piped"), cap.clone(), tx.clone());
-        let output = drain(child.stderr.take().expect("piped"));
+        watch_frames(stdout, cap.clone(), tx.clone());
+        let output = drain(stderr);
         thread::spawn(move || {
-            if let Ok(status) = child.wait() {
+            if let Ok(status) = wait() {
                 let _ = tx.send(Event::Exited(status));
             }
         });
