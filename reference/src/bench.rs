@@ -372,17 +372,26 @@ fn time_subdivide(input: &Mesh, rounds: usize, runs: usize) -> Row {
 /// Target of a full warm grade of the reference (issue 20), seconds.
 const GRADE_TARGET: f64 = 0.5;
 
-/// Full grades of the reference: every case in its locked-in child, as a
-/// student's `cargo run -p grader` grades (warm: the programs are built).
-/// The cases and child runs counted are the grader's own (its JSON).
+/// The seed of the fresh cases in the timed grade: any seed makes the same
+/// number of cases of the same kinds; a fixed one keeps runs comparable.
+const GRADE_FRESH_SEED: u64 = 0x0000_0000_0000_0001;
+
+/// Full grades of the reference as one submission is graded in a class:
+/// every case of `lab/`, `bonus/` and `hidden/`, plus one seed's fresh
+/// cases, each in its locked-in child, every labelling (warm: the
+/// programs are built). The cases and child runs counted are the grader's
+/// own (its JSON), so the line says exactly what was timed.
 fn grade_figures(runs: usize) -> Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let fixtures = reference::lab_root().join("fixtures");
+    let with_fresh = reference::class::fixtures_with_fresh(&fixtures, GRADE_FRESH_SEED)?;
     let mut times = Vec::new();
-    let mut counted = (0, 0);
+    let mut counted = GradeCount::default();
     for _ in 0..runs {
         let start = Instant::now();
         let out = Command::new(&exe)
-            .args(["grade", "--bonus", "--format", "json"])
+            .args(["grade", "--bonus", "--format", "json", "--fixtures"])
+            .arg(with_fresh.path())
             .stderr(Stdio::null())
             .output()
             .map_err(|e| e.to_string())?;
@@ -392,17 +401,27 @@ fn grade_figures(runs: usize) -> Result<(), String> {
         }
         let json: serde_json::Value =
             serde_json::from_slice(&out.stdout).map_err(|e| format!("the grader's JSON: {e}"))?;
-        let cases = json["cases"].as_array().map_or(0, Vec::len);
-        let child_runs = json["plan"]["runs"].as_u64().unwrap_or(0);
-        counted = (cases, child_runs);
+        counted = GradeCount::of(&json);
+    }
+    if counted.fresh == 0 || counted.sequence == 0 {
+        return Err(format!(
+            "the timed grade ran {} fresh and {} sequence cases: it must run both",
+            counted.fresh, counted.sequence
+        ));
     }
     let stats = Stats::of(times);
     println!(
-        "full warm grade of the reference ({} cases of lab/ and bonus/, {} calls with every \
-         labelling, one locked-in child per case; no fresh cases, which only class and \
-         Gradescope grading add): {} s (target {GRADE_TARGET:.1} s: {})",
-        counted.0,
-        counted.1,
+        "full warm grade of the reference, as a class grades one submission ({} cases: {} lab, \
+         {} bonus, {} hidden; {} of them fresh, seed {GRADE_FRESH_SEED:016x}, and {} \
+         sequences; {} calls with every labelling, one locked-in child per case): {} s \
+         (target {GRADE_TARGET:.1} s: {})",
+        counted.cases,
+        counted.lab,
+        counted.bonus,
+        counted.hidden,
+        counted.fresh,
+        counted.sequence,
+        counted.runs,
         stats.s(),
         if stats.median <= GRADE_TARGET {
             "met"
@@ -411,6 +430,39 @@ fn grade_figures(runs: usize) -> Result<(), String> {
         }
     );
     Ok(())
+}
+
+/// What a grade ran, from the grader's JSON report.
+#[derive(Default)]
+struct GradeCount {
+    cases: usize,
+    lab: usize,
+    bonus: usize,
+    hidden: usize,
+    fresh: usize,
+    sequence: usize,
+    runs: u64,
+}
+
+impl GradeCount {
+    fn of(json: &serde_json::Value) -> GradeCount {
+        let cases = json["cases"].as_array().map(Vec::as_slice).unwrap_or(&[]);
+        let is = |c: &serde_json::Value, key: &str, value: &str| c[key].as_str() == Some(value);
+        let count = |key: &str, value: &str| cases.iter().filter(|c| is(c, key, value)).count();
+        GradeCount {
+            cases: cases.len(),
+            lab: count("group", "lab"),
+            bonus: count("group", "bonus"),
+            hidden: count("group", "hidden"),
+            // Fresh cases are named by their seed (`fresh-SEED-...`).
+            fresh: cases
+                .iter()
+                .filter(|c| c["name"].as_str().is_some_and(|n| n.starts_with("fresh-")))
+                .count(),
+            sequence: count("stage", "sequence"),
+            runs: json["plan"]["runs"].as_u64().unwrap_or(0),
+        }
+    }
 }
 
 /// Targets of the student's loop (issue 20): edit -> verdict on the stubs
@@ -569,4 +621,37 @@ pub fn peer_run(file: &Path, rounds: usize) -> Result<ExitCode, String> {
         (peak() - before) as f64 / faces as f64
     );
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::GradeCount;
+
+    #[test]
+    fn a_grade_is_counted_by_group_fresh_name_and_stage() {
+        let json = serde_json::json!({
+            "plan": {"runs": 12},
+            "cases": [
+                {"name": "cube-flip-1", "group": "lab", "stage": "flip"},
+                {"name": "cube-sequence-1", "group": "lab", "stage": "sequence"},
+                {"name": "tube-split-1", "group": "bonus", "stage": "split"},
+                {"name": "fresh-0000000000000001-torus-flip-1", "group": "hidden", "stage": "flip"},
+                {"name": "fresh-0000000000000001-tube-split-1", "group": "bonus", "stage": "split"},
+                {"name": "cone-5-flip-1", "group": "hidden", "stage": "flip"},
+                // A name merely containing "fresh-" is not a fresh case.
+                {"name": "not-fresh-1", "group": "hidden", "stage": "subdivide"},
+            ]
+        });
+        let c = GradeCount::of(&json);
+        assert_eq!(
+            (c.cases, c.lab, c.bonus, c.hidden, c.fresh, c.sequence, c.runs),
+            (7, 2, 2, 3, 2, 1, 12)
+        );
+    }
+
+    #[test]
+    fn a_report_without_cases_counts_nothing() {
+        let c = GradeCount::of(&serde_json::json!({"error": "no fixtures"}));
+        assert_eq!((c.cases, c.fresh, c.sequence, c.runs), (0, 0, 0, 0));
+    }
 }
