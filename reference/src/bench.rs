@@ -385,6 +385,11 @@ fn grade_figures(runs: usize) -> Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let fixtures = reference::lab_root().join("fixtures");
     let with_fresh = reference::class::fixtures_with_fresh(&fixtures, GRADE_FRESH_SEED)?;
+    // The fresh cases are told apart by the names their generator gave them.
+    let fresh: Vec<String> = reference::fresh::cases(GRADE_FRESH_SEED, Weights::Warren)
+        .into_iter()
+        .map(|c| c.name)
+        .collect();
     let mut times = Vec::new();
     let mut counted = GradeCount::default();
     for _ in 0..runs {
@@ -401,7 +406,7 @@ fn grade_figures(runs: usize) -> Result<(), String> {
         }
         let json: serde_json::Value =
             serde_json::from_slice(&out.stdout).map_err(|e| format!("the grader's JSON: {e}"))?;
-        counted = GradeCount::of(&json);
+        counted = GradeCount::of(&json, &fresh);
     }
     if counted.fresh == 0 || counted.sequence == 0 {
         return Err(format!(
@@ -445,7 +450,8 @@ struct GradeCount {
 }
 
 impl GradeCount {
-    fn of(json: &serde_json::Value) -> GradeCount {
+    /// `fresh`: the names of the fresh cases added to the fixtures.
+    fn of(json: &serde_json::Value, fresh: &[String]) -> GradeCount {
         let cases = json["cases"].as_array().map(Vec::as_slice).unwrap_or(&[]);
         let is = |c: &serde_json::Value, key: &str, value: &str| c[key].as_str() == Some(value);
         let count = |key: &str, value: &str| cases.iter().filter(|c| is(c, key, value)).count();
@@ -454,10 +460,13 @@ impl GradeCount {
             lab: count("group", "lab"),
             bonus: count("group", "bonus"),
             hidden: count("group", "hidden"),
-            // Fresh cases are named by their seed (`fresh-SEED-...`).
             fresh: cases
                 .iter()
-                .filter(|c| c["name"].as_str().is_some_and(|n| n.starts_with("fresh-")))
+                .filter(|c| {
+                    c["name"]
+                        .as_str()
+                        .is_some_and(|n| fresh.iter().any(|f| f == n))
+                })
                 .count(),
             sequence: count("stage", "sequence"),
             runs: json["plan"]["runs"].as_u64().unwrap_or(0),
@@ -628,21 +637,25 @@ mod tests {
     use super::GradeCount;
 
     #[test]
-    fn a_grade_is_counted_by_group_fresh_name_and_stage() {
+    fn a_grade_is_counted_by_group_stage_and_the_fresh_cases_added() {
         let json = serde_json::json!({
             "plan": {"runs": 12},
             "cases": [
                 {"name": "cube-flip-1", "group": "lab", "stage": "flip"},
                 {"name": "cube-sequence-1", "group": "lab", "stage": "sequence"},
                 {"name": "tube-split-1", "group": "bonus", "stage": "split"},
-                {"name": "fresh-0000000000000001-torus-flip-1", "group": "hidden", "stage": "flip"},
-                {"name": "fresh-0000000000000001-tube-split-1", "group": "bonus", "stage": "split"},
+                {"name": "fresh-1-torus-flip", "group": "hidden", "stage": "flip"},
+                {"name": "fresh-1-tube-split", "group": "bonus", "stage": "split"},
                 {"name": "cone-5-flip-1", "group": "hidden", "stage": "flip"},
-                // A name merely containing "fresh-" is not a fresh case.
-                {"name": "not-fresh-1", "group": "hidden", "stage": "subdivide"},
+                // Named like a fresh case, but not one of those added.
+                {"name": "fresh-2-torus-subdivide", "group": "hidden", "stage": "subdivide"},
             ]
         });
-        let c = GradeCount::of(&json);
+        let fresh = [
+            "fresh-1-torus-flip".to_string(),
+            "fresh-1-tube-split".to_string(),
+        ];
+        let c = GradeCount::of(&json, &fresh);
         assert_eq!(
             (c.cases, c.lab, c.bonus, c.hidden, c.fresh, c.sequence, c.runs),
             (7, 2, 2, 3, 2, 1, 12)
@@ -651,7 +664,7 @@ mod tests {
 
     #[test]
     fn a_report_without_cases_counts_nothing() {
-        let c = GradeCount::of(&serde_json::json!({"error": "no fixtures"}));
+        let c = GradeCount::of(&serde_json::json!({"error": "no fixtures"}), &[]);
         assert_eq!((c.cases, c.fresh, c.sequence, c.runs), (0, 0, 0, 0));
     }
 }
