@@ -6,7 +6,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use halfedge::{DVec3, EdgeId, Mesh};
@@ -14,6 +14,7 @@ use reference::solution::{self, Weights};
 
 /// The system allocator, counting the bytes in use and their peak. Two
 /// relaxed atomic additions per call: nothing next to the allocation itself.
+/// Large blocks are faulted in as they are handed out (see [`prefault`]).
 pub struct Counting;
 
 static IN_USE: AtomicUsize = AtomicUsize::new(0);
@@ -24,15 +25,60 @@ fn grew(bytes: usize) {
     PEAK.fetch_max(now, Ordering::Relaxed);
 }
 
+/// Blocks (or a block's grown part) at least this large are faulted in at
+/// once: the mesh's arenas and the subdivision's lists, not small values.
+const PREFAULT_BYTES: usize = 1 << 20;
+
+/// Whether [`prefault`] acts (`bench --no-prefault` turns it off, to measure
+/// it).
+static PREFAULT: AtomicBool = AtomicBool::new(true);
+
+pub fn set_prefault(on: bool) {
+    PREFAULT.store(on, Ordering::Relaxed);
+}
+
+/// Faults in the whole pages of `block[from..to]` with one
+/// `madvise(MADV_POPULATE_WRITE)`, in address order, instead of one trap
+/// per 4 KiB page when each is first written. The subdivision reserves its
+/// arenas exactly (`solution::reserve_round`), so every page faulted in
+/// here is written soon after; a block reserved far beyond its use would
+/// only hold its memory sooner. About 4% of two rounds on icosphere(6)
+/// (`docs/performance.md`). Kernels before 5.14 refuse the advice, and
+/// nothing changes there; so does every error, which only means the pages
+/// fault in one by one as before.
+fn prefault(block: *mut u8, from: usize, to: usize) {
+    if to - from < PREFAULT_BYTES || !PREFAULT.load(Ordering::Relaxed) {
+        return;
+    }
+    #[cfg(target_os = "linux")]
+    {
+        const PAGE: usize = 4096;
+        let start = (block as usize + from).div_ceil(PAGE) * PAGE;
+        let end = (block as usize + to) / PAGE * PAGE;
+        // SAFETY: [start, end) lies inside a block the allocator has just
+        // handed out, and the advice only faults its pages in (their
+        // contents, zero or already written, are kept).
+        unsafe {
+            libc::madvise(
+                start as *mut libc::c_void,
+                end - start,
+                libc::MADV_POPULATE_WRITE,
+            )
+        };
+    }
+}
+
 fn shrank(bytes: usize) {
     IN_USE.fetch_sub(bytes, Ordering::Relaxed);
 }
 
-// SAFETY: every call is forwarded unchanged to `System`; only counters change.
+// SAFETY: every call is forwarded unchanged to `System`; only counters change,
+// and large blocks get `prefault`'s advice, which keeps their contents.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let p = unsafe { System.alloc(layout) };
         if !p.is_null() {
+            prefault(p, 0, layout.size());
             grew(layout.size());
         }
         p
@@ -40,6 +86,7 @@ unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
         let p = unsafe { System.alloc_zeroed(layout) };
         if !p.is_null() {
+            prefault(p, 0, layout.size());
             grew(layout.size());
         }
         p
@@ -51,6 +98,10 @@ unsafe impl GlobalAlloc for Counting {
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
         let p = unsafe { System.realloc(ptr, layout, new_size) };
         if !p.is_null() {
+            if new_size > layout.size() {
+                // The part kept was faulted in when it was allocated.
+                prefault(p, layout.size(), new_size);
+            }
             // A moving realloc holds both blocks for a moment: count that,
             // since the machine must hold them too.
             if p != ptr {

@@ -39,6 +39,11 @@ pub struct Args {
     /// rounds once, print one line of figures.
     #[arg(long, value_name = "FILE", requires = "peers")]
     peer_obj: Option<PathBuf>,
+    /// Let large blocks fault in page by page as they are first written,
+    /// as the system allocator does, instead of at once (to measure what
+    /// the prefault is worth; see docs/performance.md).
+    #[arg(long)]
+    no_prefault: bool,
     /// Rounds for --peer-obj.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u64).range(1..=4))]
     rounds: u64,
@@ -49,6 +54,7 @@ pub fn run(args: Args) -> Outcome {
         .obj_dir
         .unwrap_or_else(|| lab_root().join("target").join("bench-meshes"));
     let levels: Vec<usize> = args.levels.into_iter().map(|l| l as usize).collect();
+    bench::set_prefault(!args.no_prefault);
     if let Some(file) = args.peer_obj {
         return bench::peer_run(&file, args.rounds as usize);
     }
