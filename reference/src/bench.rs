@@ -29,9 +29,11 @@ fn grew(bytes: usize) {
 /// once: the mesh's arenas and the subdivision's lists, not small values.
 const PREFAULT_BYTES: usize = 1 << 20;
 
-/// Whether [`prefault`] acts (`bench --no-prefault` turns it off, to measure
-/// it).
-static PREFAULT: AtomicBool = AtomicBool::new(true);
+/// Whether [`prefault`] acts: off unless `bench` (without `--no-prefault`)
+/// or `subdivide`'s rounds turn it on, where the reference subdivides large
+/// meshes itself. Never in `serve-case`, the child the grader caps and
+/// times as it does a student's (page by page), nor for output text.
+static PREFAULT: AtomicBool = AtomicBool::new(false);
 
 pub fn set_prefault(on: bool) {
     PREFAULT.store(on, Ordering::Relaxed);
