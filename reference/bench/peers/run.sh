@@ -14,7 +14,9 @@
 # --peers` and runs compare.py: TRIALS trials (default 7) of 1 and 2 rounds.
 #
 # Usage: reference/bench/peers/run.sh [TRIALS]   (from anywhere in the lab)
-# Environment: LEVEL (default 6), ROUNDS (default 1,2), SKIP_INSTALL=1, NO_LIBIGL=1.
+# Environment: LEVEL (default 6), ROUNDS (default 1,2), SKIP_INSTALL=1, NO_LIBIGL=1,
+#   PREFAULT_CHECK=1 (also builds prefault_shim.so with gcc and runs the reference
+#   without its prefault and OpenMesh with the shim's: see compare.py).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -59,5 +61,12 @@ if [ "${NO_LIBIGL:-0}" != 1 ]; then
     igl_version="$(python3 -c 'import importlib.metadata as m; print(m.version("libigl"))')"
     args+=(--libigl "$here/igl_loop.py"
            --flags "libigl: PyPI wheel libigl $igl_version (its own release build of igl::loop), $(python3 --version), float64 V, int64 F, copies in and out included")
+fi
+if [ "${PREFAULT_CHECK:-0}" = 1 ]; then
+    echo "run.sh: building prefault_shim.so: gcc -O2 -shared -fPIC" >&2
+    gcc -O2 -shared -fPIC -o "$out/prefault_shim.so" "$here/prefault_shim.c" -ldl
+    args+=(--prefault-shim "$out/prefault_shim.so"
+           --flags "ref-4k: the same reference binary with bench --no-prefault"
+           --flags "OM+prefault: the same om_loop with LD_PRELOAD=prefault_shim.so (gcc $gxx_version -O2)")
 fi
 exec python3 "$here/compare.py" "${args[@]}"
