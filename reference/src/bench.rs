@@ -44,10 +44,10 @@ pub fn set_prefault(on: bool) {
 /// per 4 KiB page when each is first written. The subdivision reserves its
 /// arenas exactly (`solution::reserve_round`), so every page faulted in
 /// here is written soon after; a block reserved far beyond its use would
-/// only hold its memory sooner. About 4% of two rounds on icosphere(6)
-/// (`docs/performance.md`). Kernels before 5.14 refuse the advice, and
-/// nothing changes there; so does every error, which only means the pages
-/// fault in one by one as before.
+/// only hold its memory sooner. On icosphere(6) 10-13% of one round and
+/// about 3% of two (`docs/performance.md`). Kernels before 5.14 refuse the
+/// advice: that, like any error, only leaves the pages to fault in one by
+/// one as before.
 fn prefault(block: *mut u8, from: usize, to: usize) {
     if to - from < PREFAULT_BYTES || !PREFAULT.load(Ordering::Relaxed) {
         return;
@@ -107,7 +107,7 @@ unsafe impl GlobalAlloc for Counting {
         let p = unsafe { System.realloc(ptr, layout, new_size) };
         if !p.is_null() {
             if new_size > layout.size() {
-                // The part kept was faulted in when it was allocated.
+                // The new part only: the part kept holds what was written.
                 prefault(p, layout.size(), new_size);
             }
             // A moving realloc holds both blocks for a moment: count that,
