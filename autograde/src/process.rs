@@ -258,9 +258,16 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("autograde-sweep-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let mut cmd = Command::new("sh");
-        // The orphan: a new session, its parent gone at once.
-        cmd.args(["-c", "setsid sleep 300 & echo $! > pid"])
-            .current_dir(&dir);
+        // The orphan: a new session, its parent gone as soon as the orphan
+        // has left the group (it writes its pid from inside the new
+        // session). Exiting at once raced the child's setsid: under load
+        // the group's kill came first and took the child with it.
+        cmd.args([
+            "-c",
+            "setsid sh -c 'echo $$ > pid; exec sleep 300' & \
+             while [ ! -s pid ]; do sleep 0.01; done",
+        ])
+        .current_dir(&dir);
         let code = run_limited(
             cmd,
             &dir.join("out"),
