@@ -443,12 +443,8 @@ const GRADE_FRESH_SEED: u64 = 0x0000_0000_0000_0001;
 fn grade_figures(runs: usize) -> Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let fixtures = reference::lab_root().join("fixtures");
-    let with_fresh = reference::class::fixtures_with_fresh(&fixtures, GRADE_FRESH_SEED)?;
-    // The fresh cases are told apart by the names their generator gave them.
-    let fresh: Vec<String> = reference::fresh::cases(GRADE_FRESH_SEED, Weights::Warren)
-        .into_iter()
-        .map(|c| c.name)
-        .collect();
+    // The fresh cases are told apart by the names they were written under.
+    let (with_fresh, fresh) = reference::class::fixtures_with_fresh(&fixtures, GRADE_FRESH_SEED)?;
     let mut times = Vec::new();
     let mut counted = GradeCount::default();
     for _ in 0..runs {

@@ -285,16 +285,17 @@ fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(TempDir, u64), Stri
     let secret = crate::fresh::secret_of(fixtures)?;
     let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
     let seed = crate::fresh::seed_for(&secret, &bytes);
-    Ok((fixtures_with_fresh(fixtures, seed)?, seed))
+    Ok((fixtures_with_fresh(fixtures, seed)?.0, seed))
 }
 
 /// A private copy of `fixtures` with the fresh cases of `seed` added: what
-/// one submission is graded on (also timed by `reference bench`).
-pub fn fixtures_with_fresh(fixtures: &Path, seed: u64) -> Result<TempDir, String> {
+/// one submission is graded on (also timed by `reference bench`), and the
+/// names of the fresh cases.
+pub fn fixtures_with_fresh(fixtures: &Path, seed: u64) -> Result<(TempDir, Vec<String>), String> {
     let dir = private_temp_dir("meshlab-fresh-")?;
     copy_keeping_times(fixtures, dir.path())?;
-    crate::fresh::write(dir.path(), seed, crate::solution::Weights::Warren)?;
-    Ok(dir)
+    let names = crate::fresh::write(dir.path(), seed, crate::solution::Weights::Warren)?;
+    Ok((dir, names))
 }
 
 /// Copies `from` into `to` keeping modification times, so that cargo sees

@@ -172,8 +172,9 @@ pub fn cases(seed: u64, weights: Weights) -> Vec<Case> {
 
 /// Writes the fresh cases of `seed` into `dir`'s `hidden/` and `bonus/`
 /// folders beside whatever is there, and rewrites their `SHA256SUMS` so
-/// the grader's digest check covers them. Returns how many it wrote.
-pub fn write(dir: &Path, seed: u64, weights: Weights) -> Result<usize, String> {
+/// the grader's digest check covers them. Returns the names of the cases
+/// it wrote.
+pub fn write(dir: &Path, seed: u64, weights: Weights) -> Result<Vec<String>, String> {
     let io = |e: std::io::Error, p: &Path| format!("{}: {e}", p.display());
     let cases = cases(seed, weights);
     for case in &cases {
@@ -202,7 +203,7 @@ pub fn write(dir: &Path, seed: u64, weights: Weights) -> Result<usize, String> {
         std::fs::write(&sums, grader::judge::digest::sums_text(&files))
             .map_err(|e| io(e, &sums))?;
     }
-    Ok(cases.len())
+    Ok(cases.into_iter().map(|c| c.name).collect())
 }
 
 /// How many fresh cases count per function (flip, split, subdivide): the

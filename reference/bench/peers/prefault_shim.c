@@ -2,7 +2,7 @@
  * every malloc, calloc or realloc block of 1 MiB or more (a grown block's
  * new part) is faulted in at once with madvise(MADV_POPULATE_WRITE).
  * Used to check that the gain is the reference's exact reservations, not
- * the advice alone: OpenMesh's driver gains 0-1% with it (ours 3-13%).
+ * the advice alone: OpenMesh's driver gains 0-2% with it (ours 3-13%).
  *
  *   PREFAULT_CHECK=1 reference/bench/peers/run.sh builds and runs it; by hand:
  *   gcc -O2 -shared -fPIC -o target/peers/prefault_shim.so \

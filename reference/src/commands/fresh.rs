@@ -28,7 +28,7 @@ fn parse_seed(text: &str) -> Result<u64, String> {
 
 pub fn run(args: Args) -> Outcome {
     let Args { seed, dir, weights } = args;
-    let n = reference::fresh::write(&dir, seed, weights.weights())?;
+    let n = reference::fresh::write(&dir, seed, weights.weights())?.len();
     println!(
         "wrote {n} fresh cases of seed {seed:016x} into {}; grade them with \
          `cargo run -p reference -- grade --fixtures {}`",
