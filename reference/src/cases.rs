@@ -270,6 +270,7 @@ pub fn builtin(weights: Weights) -> Vec<Case> {
     ));
 
     contract_cases(&mut out, weights);
+    crate::local::cases(&mut out, weights);
     let touching = two_octahedra();
     standard(
         &mut out,

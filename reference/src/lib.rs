@@ -7,7 +7,8 @@
 //! - [`catalogue`]: the implementations the grader is tested with: other
 //!   correct answers, one per common mistake (also the fixtures' hints) and
 //!   attacks on the grader, among them the visible cases' lookup table.
-//! - [`cases`]: the built-in cases and turning a case into a fixture.
+//! - [`cases`]: the built-in cases and turning a case into a fixture;
+//!   [`local`]: the local shapes each counted flip and split rule is tried on.
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`deadline`]: the last commit before a deadline, read out of a
 //!   student's repository without running anything of theirs.
@@ -26,6 +27,7 @@ pub mod class;
 pub mod deadline;
 pub mod fresh;
 pub mod handout;
+pub mod local;
 pub mod overview;
 pub mod platforms;
 pub mod roster;

@@ -198,26 +198,52 @@ fn each_wrong_implementation_gets_its_message() {
     );
 }
 
+/// The bonus split cases, as (name, whether its edge is on a hole),
+/// sorted by name as the grader runs them.
+fn bonus_splits() -> Vec<(String, bool)> {
+    let mut out: Vec<(String, bool)> = common::case_files("bonus")
+        .iter()
+        .map(|p| grader::judge::fixture::load(p).unwrap())
+        .filter_map(|f| match f.operation {
+            grader::judge::fixture::Operation::Split { edge } => {
+                let mesh = f.input.to_mesh().unwrap();
+                let facts = reference::local::facts(&mesh, edge).unwrap();
+                Some((f.name, facts.sides.iter().any(|s| s.is_hole())))
+            }
+            _ => None,
+        })
+        .collect();
+    out.sort();
+    out
+}
+
 #[test]
 fn bonus_cases_count_only_when_asked() {
-    // Refusing to split boundary edges fails only the bonus case.
+    // Refusing to split boundary edges fails only the bonus cases beside
+    // a hole.
+    let bonus = bonus_splits();
+    let beside_hole: Vec<&str> = bonus.iter().filter(|b| b.1).map(|b| b.0.as_str()).collect();
+    assert!(
+        beside_hole.len() >= 2 && beside_hole.len() < bonus.len(),
+        "{bonus:?}"
+    );
     let quiet = grade("split-refuses-boundary", &["--stage", "split"]);
     assert_eq!(quiet.code, 0, "{}", quiet.stdout);
     // Uncounted bonus cases collapse to one line; -v shows them.
-    assert!(
-        quiet.stdout.contains(
-            "bonus cases: meshes with boundary (not counted: 1 of 2 passed; --bonus to count them, -v to see them)"
-        ),
-        "{}",
-        quiet.stdout
+    let line = format!(
+        "bonus cases: meshes with boundary (not counted: {} of {} passed; --bonus to count them, -v to see them)",
+        bonus.len() - beside_hole.len(),
+        bonus.len()
     );
+    assert!(quiet.stdout.contains(&line), "{line}\n{}", quiet.stdout);
     assert!(!quiet.stdout.contains("[warn]"), "{}", quiet.stdout);
     // A partial run says what it graded, never the lab's congratulations.
     let last = quiet.stdout.lines().last().unwrap_or("");
-    assert!(
-        last.ends_with("[info] --stage split: all 13 counted cases passed; run `cargo run -p grader` without it for the whole lab"),
-        "{last}"
+    let done = format!(
+        "[info] --stage split: all {} counted cases passed; run `cargo run -p grader` without it for the whole lab",
+        common::counted("split")
     );
+    assert!(last.ends_with(&done), "{last}");
     let verbose = grade("split-refuses-boundary", &["--stage", "split", "-v"]);
     assert!(verbose
         .stdout
@@ -226,12 +252,13 @@ fn bonus_cases_count_only_when_asked() {
     assert_eq!(counted.code, 1);
     let tail: Vec<&str> = counted.stdout.lines().rev().take(3).collect();
     assert!(tail[0].ends_with("[warn] test failed"), "{tail:?}");
+    let first = beside_hole[0];
     assert!(
-        tail[1].ends_with("[info] next: fix split_edge first; see that case alone, with pictures: cargo run -p grader -- --case grid-split-boundary --report"),
+        tail[1].ends_with(&format!("[info] next: fix split_edge first; see that case alone, with pictures: cargo run -p grader -- --case {first} --report")),
         "{tail:?}"
     );
     assert!(
-        tail[2].ends_with("[warn] grid-split-boundary: split_edge returned None for a boundary edge: it must divide the one real triangle beside it"),
+        tail[2].ends_with(&format!("[warn] {first} and {} more: split_edge returned None for a boundary edge: it must divide the one real triangle beside it", beside_hole.len() - 1)),
         "{tail:?}"
     );
 }

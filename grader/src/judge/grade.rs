@@ -1064,6 +1064,32 @@ fn faces_beside(f: &Fixture) -> Vec<&Vec<usize>> {
         .collect()
 }
 
+/// The lower degree of the case's edge's ends in the input, where it is 3
+/// or less (a refusal that tests degrees refuses legal flips there).
+fn low_degree_end(f: &Fixture) -> Option<usize> {
+    let (Operation::Flip { edge } | Operation::Split { edge }) = f.operation else {
+        return None;
+    };
+    let degree = |v: usize| {
+        let mut neighbours: Vec<usize> = f
+            .input
+            .faces
+            .iter()
+            .flat_map(|face| {
+                (0..face.len()).filter_map(move |i| {
+                    let (x, y) = (face[i], face[(i + 1) % face.len()]);
+                    (x == v).then_some(y).or((y == v).then_some(x))
+                })
+            })
+            .collect();
+        neighbours.sort_unstable();
+        neighbours.dedup();
+        neighbours.len()
+    };
+    let low = edge.map(degree).into_iter().min()?;
+    (low <= 3).then_some(low)
+}
+
 /// Whether the case's edge borders a hole in the input: it is used by one
 /// face only.
 fn on_boundary(f: &Fixture) -> bool {
@@ -1103,16 +1129,19 @@ fn check_returned(f: &Fixture, returned: &Returned, before: Counts, log: &mut Lo
             false
         }
         (Some(_), Returned::Nothing) => {
+            let flip = f.operation.stage() == Stage::Flip;
             say!(
                 log,
                 Warn,
                 "{function} returned None for an edge between two triangles: it must {} it",
-                if f.operation.stage() == Stage::Flip {
-                    "flip"
-                } else {
-                    "split"
-                }
+                if flip { "flip" } else { "split" }
             );
+            if flip {
+                say!(log, Detail, "no rule of the contract refuses it: it is not on the boundary, both faces are triangles, and c and d are not joined yet");
+            }
+            if let Some(low) = low_degree_end(f) {
+                say!(log, Detail, "an end of degree {low} is no reason to refuse: the contract lists every refusal");
+            }
             false
         }
         (Some(Returns::Edge { .. }), Returned::Edge { given, got }) if given != got => {
@@ -1316,7 +1345,7 @@ fn check_subdivided_counts(
 }
 
 /// How many of the expected result's vertices were there before the last
-/// operation (the reference keeps their ids and appends new ones): the
+/// operation (the expected result keeps their ids and appends new ones): the
 /// input's for a flip or split, the last round's input for subdivision.
 fn old_vertices(f: &Fixture, before: Counts) -> usize {
     match f.operation {

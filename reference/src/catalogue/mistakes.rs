@@ -66,6 +66,16 @@ pub fn entries() -> Vec<Entry> {
         e("split-stale-faces", "split_edge never resets the halfedge of the faces it shrinks", model().split(split_stale_faces)),
         e("split-assumes-inside", "split_edge refuses a boundary edge given by its halfedge in the hole", model().split(split_assumes_inside)),
         e("flip-any-face", "flip_edge flips beside faces that are not triangles", model().flip(flip_any_face)),
+        e("flip-one-face", "flip_edge checks only the face of mesh[e].halfedge for being a triangle", model().flip(flip_one_face)),
+        e("flip-twin-face", "flip_edge checks only the face of the twin of mesh[e].halfedge for being a triangle", model().flip(flip_twin_face)),
+        e("flip-refuses-degree-3", "flip_edge also refuses edges with an end of degree 3", model().flip(flip_refuses_degree_3)),
+        e("flip-boundary-one-side", "flip_edge refuses a boundary edge only when mesh[e].halfedge lies in the hole", model().flip(flip_boundary_one_side)),
+        e("flip-refuses-rim-ends", "flip_edge also refuses interior edges whose end is on the boundary", model().flip(flip_refuses_rim_ends)),
+        e("flip-refuses-high-degree", "flip_edge also refuses edges with an end of degree 8 or more", model().flip(flip_refuses_high_degree)),
+        e("flip-duplicates-by-degree", "flip_edge refuses for a duplicate edge only when an end has degree 3 (true on a tetrahedron, not elsewhere)", model().flip(flip_duplicates_by_degree)),
+        e("split-one-face", "split_edge checks only the face of mesh[e].halfedge (or its twin, in a hole) for being a triangle", model().split(split_one_face)),
+        e("split-twin-face", "split_edge checks only the face across from the one it splits in for being a triangle", model().split(split_twin_face)),
+        e("split-refuses-rim-ends", "split_edge also refuses interior edges whose end is on the boundary", model().split(split_refuses_rim_ends)),
         e("subdivide-skips-quads", "loop_subdivide returns quietly on a mesh that is not all triangles", model().subdivide(subdivide_skips_quads)),
         e("nan-position", "loop_subdivide leaves one vertex at NaN", model().subdivide(nan_position)),
         e("quadratic", "right results, but after each split it finds the edges at the new vertex by scanning every edge of the mesh: quadratic time", model().subdivide(sub_quadratic)),
@@ -769,6 +779,134 @@ pub fn flip_any_face(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
     }
     solution::relink_flip(mesh, e);
     Some(e)
+}
+
+/// The triangle rule on one face only: the face of `mesh[e].halfedge`.
+fn flip_one_face(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    if mesh.edge_on_boundary(e) || !solution::is_triangle(mesh, h) {
+        return None;
+    }
+    flip_checked_but_triangles(mesh, e)
+}
+
+/// The triangle rule on the twin's face only.
+fn flip_twin_face(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let t = mesh[mesh[e].halfedge].twin;
+    if mesh.edge_on_boundary(e) || !solution::is_triangle(mesh, t) {
+        return None;
+    }
+    flip_checked_but_triangles(mesh, e)
+}
+
+/// The duplicate-edge rule and the relinking, with no triangle check.
+fn flip_checked_but_triangles(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    let c = mesh[mesh[mesh[h].next].next].vertex;
+    let d = mesh[mesh[mesh[t].next].next].vertex;
+    if c == d || mesh.find_edge(c, d).is_some() {
+        return None;
+    }
+    solution::relink_flip(mesh, e);
+    Some(e)
+}
+
+/// Refuses more than the contract: an edge with an end of degree 3 (on a
+/// closed mesh such a flip would duplicate an edge anyway).
+fn flip_refuses_degree_3(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let (a, b) = mesh.edge_vertices(e);
+    if mesh.vertex_degree(a) == 3 || mesh.vertex_degree(b) == 3 {
+        return None;
+    }
+    solution::flip_edge(mesh, e)
+}
+
+/// The boundary rule on one side only: a hole on the twin's side is flipped
+/// across (the hole's triangle passes the triangle rule).
+fn flip_boundary_one_side(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    if mesh[mesh[h].face].is_boundary
+        || !solution::is_triangle(mesh, h)
+        || !solution::is_triangle(mesh, t)
+    {
+        return None;
+    }
+    flip_checked_but_triangles(mesh, e)
+}
+
+/// Refuses more than the contract: any edge with an end on the boundary.
+fn flip_refuses_rim_ends(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let (a, b) = mesh.edge_vertices(e);
+    if mesh.vertex_on_boundary(a) || mesh.vertex_on_boundary(b) {
+        return None;
+    }
+    solution::flip_edge(mesh, e)
+}
+
+/// Refuses more than the contract: an end of degree 8 or more ("keeps the
+/// mesh regular").
+fn flip_refuses_high_degree(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let (a, b) = mesh.edge_vertices(e);
+    if mesh.vertex_degree(a) >= 8 || mesh.vertex_degree(b) >= 8 {
+        return None;
+    }
+    solution::flip_edge(mesh, e)
+}
+
+/// Stands a degree test in for the duplicate-edge rule: on a closed mesh
+/// an end of degree 3 does make `c` and `d` neighbours, but `c` and `d`
+/// can be joined elsewhere too.
+fn flip_duplicates_by_degree(mesh: &mut Mesh, e: EdgeId) -> Option<EdgeId> {
+    let h = mesh[e].halfedge;
+    let t = mesh[h].twin;
+    let (a, b) = mesh.edge_vertices(e);
+    if mesh.edge_on_boundary(e)
+        || !solution::is_triangle(mesh, h)
+        || !solution::is_triangle(mesh, t)
+        || mesh.vertex_degree(a) == 3
+        || mesh.vertex_degree(b) == 3
+    {
+        return None;
+    }
+    solution::relink_flip(mesh, e);
+    Some(e)
+}
+
+/// The triangle rule on the face the split starts from only.
+fn split_one_face(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let mut h = mesh[e].halfedge;
+    if mesh[mesh[h].face].is_boundary {
+        h = mesh[h].twin;
+    }
+    if !solution::is_triangle(mesh, h) {
+        return None;
+    }
+    Some(solution::relink_split(mesh, e, h))
+}
+
+/// The triangle rule on the face across only (a hole there counts as
+/// fine).
+fn split_twin_face(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let mut h = mesh[e].halfedge;
+    if mesh[mesh[h].face].is_boundary {
+        h = mesh[h].twin;
+    }
+    let t = mesh[h].twin;
+    if !mesh[mesh[t].face].is_boundary && !solution::is_triangle(mesh, t) {
+        return None;
+    }
+    Some(solution::relink_split(mesh, e, h))
+}
+
+/// Refuses more than the contract: any edge with an end on the boundary.
+fn split_refuses_rim_ends(mesh: &mut Mesh, e: EdgeId) -> Option<VertexId> {
+    let (a, b) = mesh.edge_vertices(e);
+    if !mesh.edge_on_boundary(e) && (mesh.vertex_on_boundary(a) || mesh.vertex_on_boundary(b)) {
+        return None;
+    }
+    solution::split_edge(mesh, e)
 }
 
 /// A subdivision that quietly skips a mesh that is not all triangles.
