@@ -1,7 +1,7 @@
 //! Judging: from a case and what the child sent back to a verdict, its
 //! findings as data and its messages. Nothing here starts a process.
 //!
-//! - [`fixture`]: the case format, shared with the reference's generator;
+//! - [`fixture`]: the case format, shared with the fixture generator;
 //!   [`digest`]: the fixtures' SHA-256 list.
 //! - [`relabel`]: the same input with other ids and pointers, so that
 //!   order-dependent bugs show.

@@ -731,7 +731,7 @@ fn opts(color: bool) -> grader::report::TextOptions {
 fn subdivision_counts_come_before_shape_in_plain_words() {
     let f = load("lab/cube-subdivide-1.json");
     let (returned, after, mesh) = perfect(&f);
-    // The hand counts of the lab's cube after one round (shared/README.md).
+    // The original lab's hand counts of its cube after one round.
     assert_eq!((after.vertices, after.edges), (26, 72));
     let mut more_edges = after;
     more_edges.edges += 1;

@@ -152,6 +152,14 @@ fn student_manifest(root: &Path, text: &str, purpose: Purpose) -> Result<String,
         let manifest = parse_toml(&io(std::fs::read_to_string(&path), &path)?, &path)?;
         workspace_uses(&manifest, &mut used);
     }
+    // The release profile serves the TAs' benchmarks only: students and
+    // grading build in dev, and a student's own release build is better
+    // off with cargo's defaults than with fat LTO.
+    if purpose == Purpose::Handout {
+        if let Some(profiles) = doc.get_mut("profile").and_then(Item::as_table_like_mut) {
+            profiles.remove("release");
+        }
+    }
     if let Some(deps) = doc
         .get_mut("workspace")
         .and_then(|w| w.get_mut("dependencies"))
@@ -243,7 +251,68 @@ pub fn export(root: &Path, dest: &Path) -> Result<Exported, String> {
             copies.join("\n  ")
         ));
     }
+    let talk = ta_talk(dest)?;
+    if !talk.is_empty() {
+        let _ = std::fs::remove_dir_all(dest);
+        return Err(format!(
+            "the export would speak to students of TA material, so nothing was exported:\n  {}\n\
+             reword those lines, or put a Markdown passage between {TA_START} and {TA_END}",
+            talk.join("\n  ")
+        ));
+    }
     Ok(out)
+}
+
+/// What no text a student gets may say: the hidden crate and its commands,
+/// the peers it is measured against, the TAs' own documents and tools
+/// (matched ignoring case). Words a student may well read ("ask a TA", "a
+/// vertex reference") are not among them.
+pub const TA_TALK: &[&str] = &[
+    "the reference",
+    "reference's",
+    "reference/",
+    "-p reference",
+    "`reference",
+    "reference bench",
+    "reference class",
+    "reference fixtures",
+    "reference gradescope",
+    "reference handout",
+    "model solution",
+    " peers",
+    "peers'",
+    "peer's",
+    "ta-guide",
+    "performance.md",
+    "ta tool",
+    "tas' tool",
+    "ta-only",
+    "tas build",
+    "<!-- ta -->",
+    "subdivision_mistakes",
+    "catalogue::",
+    "mutants",
+    "\"reference\"",
+    "参考答案",
+];
+
+/// Every line of a text file under `dir` that says one of [`TA_TALK`],
+/// as "FILE:LINE says \"PHRASE\"". Files that are not UTF-8 text (the
+/// figures' PNGs) have nothing to say.
+pub fn ta_talk(dir: &Path) -> Result<Vec<String>, String> {
+    let mut found = Vec::new();
+    for rel in list_files(dir)? {
+        let Ok(text) = std::fs::read_to_string(dir.join(&rel)) else {
+            continue;
+        };
+        for (i, line) in text.lines().enumerate() {
+            let lower = line.to_lowercase();
+            if let Some(phrase) = TA_TALK.iter().find(|p| lower.contains(*p)) {
+                found.push(format!("{rel}:{} says {phrase:?}", i + 1));
+            }
+        }
+    }
+    Ok(found)
 }
 
 /// The model solution, as the copy check reads it.

@@ -87,22 +87,36 @@ fn check_names_stale_and_missing_files_and_regenerating_fixes_them() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The lab's four objects are pinned inside the repository: the digests in
+/// `crates/halfedge/objects/SHA256SUMS` were taken from the original lab's
+/// files, and the objects the library embeds must still be those bytes.
+/// (Nothing outside the repository decides a test: a clone has nothing
+/// beside it.)
 #[test]
-fn lab_objects_are_the_shared_ones_exactly() {
-    let shared = root().join("../shared/lab-objects");
-    if !shared.is_dir() {
-        common::skip(&format!(
-            "{} not found: the lab's objects cannot be compared with the original lab's",
-            shared.display()
-        ));
-        return;
-    }
-    for name in halfedge::shapes::LAB_OBJECTS {
-        let theirs = std::fs::read(shared.join(format!("{name}.obj"))).unwrap();
-        let ours = halfedge::shapes::lab_object_obj(name).unwrap().as_bytes();
-        assert!(
-            ours == theirs.as_slice(),
-            "{name}.obj differs from shared/lab-objects"
+fn lab_objects_are_the_original_lab_s_exactly() {
+    let dir = root().join("crates/halfedge/objects");
+    let sums = grader::judge::digest::read_sums(&dir).unwrap();
+    let mut listed: Vec<&str> = sums.iter().map(|(name, _)| name.as_str()).collect();
+    listed.sort_unstable();
+    let mut objects: Vec<String> = halfedge::shapes::LAB_OBJECTS
+        .iter()
+        .map(|name| format!("{name}.obj"))
+        .collect();
+    objects.sort_unstable();
+    assert_eq!(listed, objects, "SHA256SUMS lists exactly the lab objects");
+    for (file, digest) in &sums {
+        let name = file.strip_suffix(".obj").unwrap();
+        let embedded = halfedge::shapes::lab_object_obj(name).unwrap();
+        assert_eq!(
+            &grader::judge::digest::sha256_hex(embedded.as_bytes()),
+            digest,
+            "{file} is not the original lab's (crates/halfedge/objects/SHA256SUMS)"
+        );
+        let on_disk = std::fs::read(dir.join(file)).unwrap();
+        assert_eq!(
+            on_disk,
+            embedded.as_bytes(),
+            "{file} on disk is the embedded one"
         );
     }
 }
@@ -348,4 +362,84 @@ fn subdivide_flip_and_split_write_objs() {
         r.stderr
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The student export says nothing of TA material: not the hidden crate or
+/// its commands, not the peers, not the TAs' tools (its release profile,
+/// which only the TAs' benchmarks use, is gone with its comment), and no
+/// build output or bytecode comes with it. The scan is the export's own
+/// check, so it is tried on planted lines too.
+#[test]
+fn the_export_speaks_only_to_students() {
+    let dir = scratch("speaks").join("lab");
+    let r = run(&["handout", dir.to_str().unwrap()]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(
+        reference::handout::ta_talk(&dir).unwrap(),
+        Vec::<String>::new()
+    );
+    let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+    assert!(!manifest.contains("[profile.release]"), "{manifest}");
+    assert!(
+        manifest.contains("[profile.dev.package.halfedge]"),
+        "{manifest}"
+    );
+    let files = reference::handout::list_files(&dir).unwrap();
+    for f in &files {
+        assert!(
+            !f.ends_with(".pyc") && !f.contains("__pycache__") && !f.starts_with("target/"),
+            "{f} was exported"
+        );
+    }
+    for (file, line) in [
+        (
+            "Cargo.toml",
+            "# TAs build the reference in release for `bench` and the peers' comparison",
+        ),
+        ("grader/src/x.rs", "// timed by `reference bench`"),
+        ("docs/notes.md", "see docs/ta-guide.md"),
+        ("crates/meshedit/README", "The model solution measured 11x"),
+        ("docs/zh.md", "参考答案测得 11 到 28 倍"),
+    ] {
+        let path = dir.join(file);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        let before = std::fs::read_to_string(&path).unwrap_or_default();
+        std::fs::write(&path, format!("{before}\n{line}\n")).unwrap();
+        let found = reference::handout::ta_talk(&dir).unwrap();
+        assert_eq!(found.len(), 1, "{file}: {found:?}");
+        assert!(found[0].starts_with(&format!("{file}:")), "{found:?}");
+        std::fs::write(&path, before).unwrap();
+    }
+    // What students may read stays readable.
+    std::fs::write(
+        dir.join("docs/ok.md"),
+        "ask a TA\n`2/x` is not a vertex reference\nthe grader's protections keep the TA's home out\n",
+    )
+    .unwrap();
+    assert_eq!(
+        reference::handout::ta_talk(&dir).unwrap(),
+        Vec::<String>::new()
+    );
+    std::fs::remove_dir_all(dir.parent().unwrap()).unwrap();
+}
+
+/// No bytecode or build output is tracked: the repository's own files,
+/// as git lists them.
+#[test]
+fn no_build_output_or_bytecode_is_tracked() {
+    let out = std::process::Command::new("git")
+        .args(["ls-files", "-z"])
+        .current_dir(root())
+        .output();
+    let Some(out) = out.ok().filter(|o| o.status.success()) else {
+        common::skip("not a git checkout here: its tracked files cannot be listed");
+        return;
+    };
+    let tracked = String::from_utf8_lossy(&out.stdout).into_owned();
+    for f in tracked.split('\0').filter(|f| !f.is_empty()) {
+        assert!(
+            !f.ends_with(".pyc") && !f.contains("__pycache__/") && !f.starts_with("target/"),
+            "{f} is tracked: remove it (`git rm --cached`) and keep it ignored"
+        );
+    }
 }

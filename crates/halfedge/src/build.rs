@@ -361,8 +361,8 @@ struct Corners {
 /// Everything that can be wrong with an indexed face list before any
 /// halfedge is made, but its edges (see [`find_twins`]) and unused vertices.
 ///
-/// Linear and without hashing: building is timed by `reference bench`, and
-/// it used to cost more than subdividing.
+/// Linear and without hashing: building used to cost more than
+/// subdividing.
 fn check_faces(positions: &[DVec3], faces: &[Vec<usize>]) -> Result<Corners, MeshError> {
     if positions.is_empty() || faces.is_empty() {
         return Err(MeshError::Empty);

@@ -4,9 +4,9 @@
 //! `.incbin` let a `lib.rs` read any file or variable the compiler can, and
 //! embed it in the program it then runs: a hidden case's expected answer, a
 //! file of the TA's, the TA's environment. So every grader that compiles a
-//! student's crate (`reference class`, Gradescope's `run_autograder`) starts
+//! student's crate (class grading, Gradescope's `run_autograder`) starts
 //! cargo through this launcher, a mode of a trusted program (the grader, or
-//! the reference) started with [`BUILD_LAUNCH_ARG`]. It forks; the child
+//! the grading tool) started with [`BUILD_LAUNCH_ARG`]. It forks; the child
 //! locks itself in and `exec`s cargo; the launcher waits, enforces the time
 //! limit, kills what is left and writes how the build ended to a status
 //! file (never to cargo's output, which the student's code can fill).

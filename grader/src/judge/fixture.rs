@@ -1,5 +1,5 @@
-//! The fixture format: one JSON file per case, written by the reference's
-//! `fixtures` command and read here. Documented in `docs/fixtures.md`.
+//! The fixture format: one JSON file per case, written by the fixture
+//! generator and read here. Documented in `docs/fixtures.md`.
 //!
 //! Files are written by [`to_json_text`]: stable key order, one vertex or
 //! edge per line, floats as shortest round-trip decimals, so regenerating
@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-/// The schema version this grader reads and the reference writes.
+/// The schema version this grader reads and the fixture generator writes.
 pub const SCHEMA: u32 = 2;
 
 /// One graded case.
@@ -190,7 +190,7 @@ impl Stage {
     }
 }
 
-/// The reference's result.
+/// The expected result.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Expected {
@@ -620,8 +620,7 @@ pub fn check_digests(root: &Path) -> Result<(), FixtureError> {
                 return Err(err(
                     path.clone(),
                     format!(
-                        "is not in {}: a fixture added by hand? Remove it, or ask a TA \
-                         (the TAs' tool adds cases)",
+                        "is not in {}: a fixture added by hand? Remove it, or ask a TA",
                         digest::SUMS_FILE
                     ),
                 ));
@@ -653,7 +652,7 @@ pub fn check_digests(root: &Path) -> Result<(), FixtureError> {
     Ok(())
 }
 
-/// The fixture as the JSON text the reference writes: objects indented,
+/// The fixture as the JSON text the generator writes: objects indented,
 /// arrays of numbers on one line.
 pub fn to_json_text(fixture: &Fixture) -> String {
     let value = serde_json::to_value(fixture).expect("fixtures serialize");

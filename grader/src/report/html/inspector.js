@@ -332,7 +332,7 @@
     I.frameBroken.style.display = broken ? '' : 'none';
   };
 
-  // The reference frame: the expected result's box, else the input's.
+  // The frame to view in: the expected result's box, else the input's.
   Inspector.prototype.resetView = function () {
     var I = this;
     var ref = I.models.expected || I.models.input || I.models.yours;

@@ -209,8 +209,8 @@ pub(super) struct CasePictures {
     pub(super) case_of: Vec<Option<usize>>,
     /// Expected vertex -> the student's vertex matched or paired with it.
     pub(super) student_of_expected: Vec<Option<usize>>,
-    /// Expected vertex -> the input vertex (as sent) it is: the reference
-    /// keeps the input's ids and appends new vertices.
+    /// Expected vertex -> the input vertex (as sent) it is: the expected
+    /// result keeps the input's ids and appends new vertices.
     pub(super) input_of_expected: Vec<Option<usize>>,
     /// The case's edge in the input as sent.
     pub(super) case_edge: Option<[usize; 2]>,
