@@ -1581,6 +1581,25 @@ fn a_fresh_look_s_probes_are_all_stopped() {
     );
     // The thread bomb meets `nobody`'s process cap.
     assert_thread_bomb_capped(&g);
+    // Its mounts (/proc/self/mountinfo) name one file of the lab: the
+    // child program's own, where its bind at /child came from; no folder of
+    // the lab, no fixture (docs/architecture.md).
+    let mounts = g
+        .attack("mounts")
+        .unwrap_or_else(|| panic!("no mounts: {}", g.context()));
+    let mounts = mounts.split("| attack: mounts: ").nth(1).unwrap();
+    assert!(mounts.contains(" on /child"), "{mounts}");
+    let lab = reference::lab_root().to_string_lossy().into_owned();
+    let program = std::path::Path::new(env!("CARGO_BIN_EXE_reference"))
+        .canonicalize()
+        .unwrap();
+    for mount in mounts.split("; ").filter(|m| m.contains(&lab)) {
+        assert_eq!(
+            mount,
+            format!("{} on /child", program.display()),
+            "a mount names the lab: {mounts}"
+        );
+    }
 }
 
 /// The `probes` attack's thread bomb stopped at the process cap (512).

@@ -609,3 +609,62 @@ fn the_figures_are_the_generators_and_each_handout_links_its_own() {
         std::fs::remove_dir_all(&out).unwrap();
     }
 }
+
+/// The TA guide's section under `heading` (up to the next `## `).
+fn guide_section(heading: &str) -> String {
+    let text = read("docs/ta-guide.md");
+    let start = text
+        .find(&format!("\n## {heading}\n"))
+        .unwrap_or_else(|| panic!("the TA guide has no section {heading:?}"));
+    let rest = &text[start + 1..];
+    let end = rest[3..].find("\n## ").map_or(rest.len(), |i| i + 3);
+    rest[..end].to_string()
+}
+
+/// Every platform's section pins the toolchain as the bundles do (a
+/// version, never the moving `stable` channel), and PrairieLearn's
+/// `info.json` uses its current keys: the grading method at the top level,
+/// no deprecated `enabled`, only keys PrairieLearn's schema has.
+#[test]
+fn the_platform_sections_pin_the_toolchain_and_use_current_keys() {
+    for heading in ["Classroom 50", "PrairieLearn", "Gradescope"] {
+        let section = guide_section(heading);
+        assert!(
+            !section.contains("\"stable\"") && !section.contains("rust: stable"),
+            "{heading}: the toolchain is pinned to a version, not the stable channel"
+        );
+        assert!(
+            section.contains("rust-toolchain.toml") || section.contains("setup.sh"),
+            "{heading}: says where the version is pinned"
+        );
+    }
+    let section = guide_section("PrairieLearn");
+    let start = section
+        .find("```json\n")
+        .expect("info.json as a JSON block")
+        + 8;
+    let end = start + section[start..].find("```").unwrap();
+    let info: serde_json::Value =
+        serde_json::from_str(&section[start..end]).expect("the info.json example parses");
+    assert_eq!(info["gradingMethod"], "External");
+    let options = info["externalGradingOptions"].as_object().unwrap();
+    // PrairieLearn's infoQuestion schema, less the deprecated `enabled`.
+    let known = [
+        "image",
+        "entrypoint",
+        "serverFilesCourse",
+        "timeout",
+        "enableNetworking",
+        "environment",
+    ];
+    for key in options.keys() {
+        assert!(
+            known.contains(&key.as_str()),
+            "externalGradingOptions.{key} is not a current key"
+        );
+    }
+    assert_eq!(
+        options["entrypoint"],
+        "/grade/serverFilesCourse/meshlab/run.sh"
+    );
+}

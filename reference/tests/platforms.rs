@@ -55,6 +55,16 @@ fn bundle(command: &str) -> (PathBuf, Vec<(&'static str, PathBuf)>) {
         !dir.join("lab/fixtures/hidden").exists(),
         "no hidden case the build could read"
     );
+    // The toolchain is the one the TA runs, pinned as Gradescope's setup
+    // and the grading workflow pin it, and the command says which.
+    let version = reference::handout::rust_version(&reference::lab_root()).unwrap();
+    let pin = std::fs::read_to_string(dir.join("lab/rust-toolchain.toml")).unwrap();
+    assert!(pin.contains(&format!("channel = \"{version}\"")), "{pin}");
+    assert!(
+        r.stdout.contains(&format!("Rust {version}")),
+        "{}",
+        r.stdout
+    );
     let fetched = Command::new("cargo")
         .args(["fetch", "--locked"])
         .current_dir(dir.join("lab"))

@@ -1573,6 +1573,20 @@ pub fn probes(mesh: &mut Mesh) {
             std::fs::write("/proc/self/oom_score_adj", "1000"),
         );
     }
+    // What the child's mounts say of where they came from: each mount's
+    // root in its source filesystem, and where it is mounted.
+    let mounts = std::fs::read_to_string("/proc/self/mountinfo").unwrap_or_default();
+    println!(
+        "attack: mounts: {}",
+        mounts
+            .lines()
+            .filter_map(|l| {
+                let fields: Vec<&str> = l.split(' ').collect();
+                Some(format!("{} on {}", fields.get(3)?, fields.get(4)?))
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
     // The lab's folder, from the child program's own path.
     let exe = std::fs::read_link("/proc/self/exe");
     println!("attack: the child program is {exe:?}");

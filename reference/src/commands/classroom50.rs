@@ -13,10 +13,11 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Outcome {
-    reference::platforms::classroom50(&lab_root(), &args.dir)?;
+    let version = reference::platforms::classroom50(&lab_root(), &args.dir)?;
     println!(
         "wrote {}: copy its contents to CLASSROOM/autograders/ASSIGNMENT/ in your \
-         classroom50 repository",
+         classroom50 repository; the runtime needs Rust {version} (lab/rust-toolchain.toml \
+         pins it)",
         args.dir.display()
     );
     Ok(ExitCode::SUCCESS)

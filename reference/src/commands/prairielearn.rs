@@ -13,10 +13,11 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Outcome {
-    reference::platforms::prairielearn(&lab_root(), &args.dir)?;
+    let version = reference::platforms::prairielearn(&lab_root(), &args.dir)?;
     println!(
         "wrote {}: copy it to serverFilesCourse/meshlab/ and set the question's \
-         entrypoint to /grade/serverFilesCourse/meshlab/run.sh",
+         entrypoint to /grade/serverFilesCourse/meshlab/run.sh; the image needs Rust \
+         {version} (lab/rust-toolchain.toml pins it)",
         args.dir.display()
     );
     Ok(ExitCode::SUCCESS)
