@@ -6,15 +6,25 @@
 //! - [`relabel`]: the same input with other ids and pointers, so that
 //!   order-dependent bugs show.
 //! - [`matching`]: order-independent comparison of vertices and edges.
-//! - [`grade`]: the verdict and messages for one case, and its findings as
-//!   data; [`frames`]: the step-through of a recorded subdivision.
+//! - [`grade`]: the verdict and messages for one case, built from the
+//!   checks beside it ([`ended`], [`returned`], [`counts`], [`compare`],
+//!   [`sequence`]) writing to a [`log`]; [`verdict`]: the verdict and its
+//!   findings as data; [`frames`]: the step-through of a recorded
+//!   subdivision.
 //! - [`scaling`]: `loop_subdivide` timed on two sizes, to catch quadratic
 //!   code (a warning, not counted).
 
+pub mod compare;
+pub mod counts;
 pub mod digest;
+pub mod ended;
 pub mod fixture;
 pub mod frames;
 pub mod grade;
+pub mod log;
 pub mod matching;
 pub mod relabel;
+pub mod returned;
 pub mod scaling;
+pub mod sequence;
+pub mod verdict;

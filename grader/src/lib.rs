@@ -31,13 +31,15 @@ compile_error!(
 
 pub mod isolate;
 pub mod judge;
+pub mod quoted;
 pub mod report;
+pub mod text;
 pub mod trial;
 #[cfg(unix)]
 pub mod watch;
 
 use isolate::{child, runner, sandbox, wire};
-use judge::{fixture, frames, grade, relabel, scaling};
+use judge::{fixture, frames, grade, relabel, scaling, verdict};
 use report::html;
 
 use std::ffi::OsString;
@@ -453,7 +455,7 @@ fn grade_case(
     limits: &sandbox::Limits,
     timeout: Duration,
     protections: &mut Option<String>,
-) -> Result<grade::CaseReport, String> {
+) -> Result<verdict::CaseReport, String> {
     use crate::isolate::end::CaseEnd;
     let f = case.fixture;
     let (seed, labellings) = (case.seed, &case.labellings);
@@ -596,14 +598,14 @@ fn grade_all(
     timeout: f64,
     program: &runner::ChildProgram,
     limits: &sandbox::Limits,
-) -> Result<(Vec<grade::CaseReport>, Option<String>), String> {
+) -> Result<(Vec<verdict::CaseReport>, Option<String>), String> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
     let workers = workers(cases.len());
     let next = AtomicUsize::new(0);
     let timed_out: Mutex<Vec<(Stage, String)>> = Mutex::new(Vec::new());
     let protections: Mutex<Option<String>> = Mutex::new(None);
-    let results: Mutex<Vec<Option<Result<grade::CaseReport, String>>>> =
+    let results: Mutex<Vec<Option<Result<verdict::CaseReport, String>>>> =
         Mutex::new(vec![None; cases.len()]);
     std::thread::scope(|scope| {
         for _ in 0..workers {
@@ -701,7 +703,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
             cli.timeout
         ));
     }
-    grade::set_rewording(cli.reword_messages);
+    text::set_rewording(cli.reword_messages);
     let root = fixtures_root(cli);
     let all = match fixture::load_all(&root) {
         Ok(all) => all,
@@ -816,7 +818,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     let report_path = match &cli.report {
         None => None,
         Some(dir) => {
-            let pairs: Vec<(&Fixture, &grade::CaseReport)> =
+            let pairs: Vec<(&Fixture, &verdict::CaseReport)> =
                 cases.iter().map(|c| c.fixture).zip(&reports).collect();
             #[cfg(unix)]
             let live = watch::is_inner();

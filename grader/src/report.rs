@@ -1,13 +1,13 @@
 //! Reporting: renderings of the judge's findings. This module prints the
 //! lab's text format, JSON and Gradescope's `results.json`; [`html`] draws
-//! the `--report` page; [`quoted`] is how anything the student's code said
-//! is shown (as data, under `| `).
+//! the `--report` page; [`quoted`] (the crate's, re-exported here) is how
+//! anything the student's code said is shown (as data, under `| `).
 //!
 //! Nothing here decides a verdict: every function reads
 //! [`CaseReport`]s, never another module's message text.
 
 pub mod html;
-pub mod quoted;
+pub use crate::quoted;
 
 use std::fmt::Write as _;
 
@@ -15,7 +15,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::judge::fixture::{Group, Stage};
-use crate::judge::grade::{CaseReport, Level};
+use crate::judge::verdict::{CaseReport, Level};
 
 /// Whether a case's verdict counts toward the final one.
 pub fn counts(case: &CaseReport, bonus: bool) -> bool {

@@ -246,7 +246,7 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
     seen.output = raw.output.clone();
     print!(
         "{}",
-        crate::report::quoted::Quoted::new(raw.output.clone()).block("    ")
+        crate::quoted::Quoted::new(raw.output.clone()).block("    ")
     );
     let result = raw.mesh;
     seen.result = result.clone();
@@ -256,16 +256,13 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
         CaseEnd::Panicked {
             message, location, ..
         } => {
-            let message = crate::report::quoted::Quoted::new(message);
+            let message = crate::quoted::Quoted::new(message);
             say!(true, &format!("{function} panicked: {}", message.inline()));
             if !message.fits_inline() {
                 print!("{}", message.block("        "));
             }
             if let Some(l) = location {
-                println!(
-                    "        at {}",
-                    crate::report::quoted::Quoted::new(l).inline()
-                );
+                println!("        at {}", crate::quoted::Quoted::new(l).inline());
             }
             ExitCode::from(1)
         }

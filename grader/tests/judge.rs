@@ -9,7 +9,8 @@ use grader::isolate::child::{Counts, Finished, MeshResult, Returned, SplitIds};
 use grader::isolate::end::CaseEnd;
 use grader::isolate::runner::ChildReport;
 use grader::judge::fixture::{self, Fixture, Returns};
-use grader::judge::grade::{judge, CaseReport, Level};
+use grader::judge::grade::judge;
+use grader::judge::verdict::{CaseReport, Level};
 
 fn fixtures_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")

@@ -788,14 +788,14 @@ fn invalid_report(
     f: &grader::judge::fixture::Fixture,
     input: halfedge::Mesh,
     result: halfedge::Mesh,
-) -> grader::judge::grade::CaseReport {
+) -> grader::judge::verdict::CaseReport {
     let problem = result.validate().expect_err("the result is broken");
     failed_report(
         f,
         input,
         result,
         format!("the result of split_edge is a invalid mesh: {problem}"),
-        vec![grader::judge::grade::Named::seen(problem.element)],
+        vec![grader::judge::verdict::Named::seen(problem.element)],
     )
 }
 
@@ -806,16 +806,16 @@ fn failed_report(
     input: halfedge::Mesh,
     result: halfedge::Mesh,
     text: String,
-    elements: Vec<grader::judge::grade::Named>,
-) -> grader::judge::grade::CaseReport {
-    grader::judge::grade::CaseReport {
+    elements: Vec<grader::judge::verdict::Named>,
+) -> grader::judge::verdict::CaseReport {
+    grader::judge::verdict::CaseReport {
         name: f.name.clone(),
         object: f.object.clone(),
         group: f.group,
         stage: f.operation.stage(),
         passed: false,
-        entries: vec![grader::judge::grade::Entry {
-            level: grader::judge::grade::Level::Warn,
+        entries: vec![grader::judge::verdict::Entry {
+            level: grader::judge::verdict::Level::Warn,
             text,
             quote: None,
             elements,
@@ -829,7 +829,7 @@ fn failed_report(
         result: Some(result),
         hint: None,
         hint_id: None,
-        end: grader::judge::grade::CaseEnd::JudgeFailed,
+        end: grader::judge::verdict::CaseEnd::JudgeFailed,
         comparison: None,
         invalid: None,
         labelling: None,
@@ -874,7 +874,7 @@ fn a_split_failing_on_a_relabelled_input_shows_both_numberings() {
     let mut report = invalid_report(&f, l.mesh.clone(), result);
     // As the grader reports a case that failed only there: the labelling's
     // facts, and each named element in both numberings.
-    report.labelling = Some(grader::judge::grade::LabellingFacts {
+    report.labelling = Some(grader::judge::verdict::LabellingFacts {
         index: 1,
         of: 4,
         seed: 0,
@@ -1233,7 +1233,7 @@ fn invalid_like(
     f: &grader::judge::fixture::Fixture,
     input: halfedge::Mesh,
     result: halfedge::Mesh,
-) -> grader::judge::grade::CaseReport {
+) -> grader::judge::verdict::CaseReport {
     failed_report(f, input, result, String::new(), Vec::new())
 }
 
@@ -1249,7 +1249,7 @@ fn the_whole_lab_failing_makes_a_page_under_5_mb_that_opens_in_2_s() {
     use grader::judge::fixture::Operation;
     use reference::solution;
     let fixtures = grader::judge::fixture::load_all(&common::lab_root().join("fixtures")).unwrap();
-    let reports: Vec<grader::judge::grade::CaseReport> = fixtures
+    let reports: Vec<grader::judge::verdict::CaseReport> = fixtures
         .iter()
         .map(|f| {
             let input = f.input.to_mesh().unwrap();
@@ -1278,7 +1278,7 @@ fn the_whole_lab_failing_makes_a_page_under_5_mb_that_opens_in_2_s() {
         .collect();
     let pairs: Vec<(
         &grader::judge::fixture::Fixture,
-        &grader::judge::grade::CaseReport,
+        &grader::judge::verdict::CaseReport,
     )> = fixtures.iter().zip(&reports).collect();
     let dir = scratch("report-whole-lab");
     let index = grader::report::html::write_report(&dir, &pairs).unwrap();
@@ -1517,7 +1517,7 @@ fn the_inspector_survives_any_mesh() {
             .collect();
     assert_eq!(fixtures.len(), names.len());
     for round in 0..3u64 {
-        let reports: Vec<grader::judge::grade::CaseReport> = fixtures
+        let reports: Vec<grader::judge::verdict::CaseReport> = fixtures
             .iter()
             .enumerate()
             .map(|(i, f)| {

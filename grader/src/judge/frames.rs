@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::isolate::child::Problem;
 use crate::isolate::wire::Recorded;
-use crate::judge::grade::Named;
+use crate::judge::verdict::Named;
 
 /// A subdivision's frames, for the report's slider.
 #[derive(Clone, Debug, Serialize)]

@@ -8,8 +8,8 @@ use super::faces::{Shape, MAX_DEGREE};
 use super::svg::{Camera, Prepared};
 use super::{fmt_d, fmt_p, pair, sides};
 use crate::judge::fixture::{Fixture, Operation, Returns};
-use crate::judge::grade::{CaseReport, Comparison, Entry, Level};
 use crate::judge::matching;
+use crate::judge::verdict::{CaseReport, Comparison, Entry, Level};
 
 /// Meshes with fewer vertices get their ids written beside the vertices.
 pub(super) const LABEL_LIMIT: usize = 60;

@@ -87,9 +87,9 @@ mod tests {
     use super::marks::compared;
     use super::*;
     use crate::judge::fixture::{Fixture, Operation, Returns};
-    use crate::judge::grade::Entry;
-    use crate::judge::grade::{CaseReport, Level};
     use crate::judge::relabel::Rng;
+    use crate::judge::verdict::Entry;
+    use crate::judge::verdict::{CaseReport, Level};
     use halfedge::Mesh;
     use halfedge::{Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Vertex, VertexId};
 
@@ -127,13 +127,13 @@ mod tests {
                 file: file!(),
                 line: line!(),
             }],
-            output: crate::report::quoted::Quoted::new("printed <b>\n".repeat(2000)),
+            output: crate::quoted::Quoted::new("printed <b>\n".repeat(2000)),
             timed_out: false,
             input: f.input.to_mesh().ok(),
             result,
             hint: None,
             hint_id: None,
-            end: crate::judge::grade::CaseEnd::JudgeFailed,
+            end: crate::judge::verdict::CaseEnd::JudgeFailed,
             comparison: None,
             invalid: None,
             labelling: None,
@@ -313,7 +313,7 @@ mod tests {
 
     #[test]
     fn the_judges_comparison_is_drawn_as_it_is_and_ids_past_the_mesh_are_dropped() {
-        use crate::judge::grade::Comparison;
+        use crate::judge::verdict::Comparison;
         let f = fixture("cube-split");
         let expected = Shape::expected(&f);
         let yours = expected.clone();

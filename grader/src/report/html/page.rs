@@ -19,7 +19,7 @@ use super::marks::{
 use super::sides;
 use super::svg::{draw, legend, shade_css, Camera, Prepared};
 use crate::judge::fixture::{Fixture, Group, Operation, Returns};
-use crate::judge::grade::{CaseReport, Level};
+use crate::judge::verdict::{CaseReport, Level};
 
 /// The inspector: its script and style, inlined once per page.
 const INSPECTOR_JS: &str = include_str!("inspector.js");
@@ -769,7 +769,7 @@ pub fn write_trial_report(dir: &Path, page: &TrialPage) -> Result<PathBuf, Strin
         let _ = write!(html, "<li class=\"{class}\">{}</li>", escape(text));
     }
     html.push_str("</ol>\n");
-    let shown = crate::report::quoted::Quoted::new(page.output.clone());
+    let shown = crate::quoted::Quoted::new(page.output.clone());
     if !shown.is_blank() {
         let all = shown.block("");
         let mut cut: String = all.chars().take(OUTPUT_LIMIT).collect();

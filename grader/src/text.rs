@@ -1,0 +1,27 @@
+//! The grader's words as a switch: every message the judge says, and
+//! every `validate()` message the parent reads, passes through [`words`],
+//! which the tests can turn into a rewording that no decision survives
+//! if it reads words. The bottom of the crate: every layer may use it.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether every message is rewritten (see [`set_rewording`]).
+static REWORDING: AtomicBool = AtomicBool::new(false);
+
+/// For the tests that prove no decision reads a message: from now on, in
+/// this process, every line the judge says and every `validate()` message
+/// the parent reads is rewritten ([`words`]). Off in normal use.
+pub fn set_rewording(on: bool) {
+    REWORDING.store(on, Ordering::Relaxed);
+}
+
+/// A message as the grader says it: unchanged, or rewritten when
+/// [`set_rewording`] is on (upper case behind a marker, so any code that
+/// still matched words would stop matching).
+pub fn words(text: String) -> String {
+    if REWORDING.load(Ordering::Relaxed) {
+        format!("REWORDED: {}", text.to_uppercase())
+    } else {
+        text
+    }
+}
