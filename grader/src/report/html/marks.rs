@@ -5,8 +5,8 @@
 use halfedge::{DVec3, Element, Mesh};
 
 use super::faces::{Shape, MAX_DEGREE};
-use super::svg::{Camera, Prepared};
-use super::{fmt_d, fmt_p, pair, sides};
+use super::view::{views, Problems, View};
+use super::{fmt_d, fmt_p, pair};
 use crate::judge::fixture::{Fixture, Operation, Returns};
 use crate::judge::matching;
 use crate::judge::verdict::{CaseReport, Comparison, Entry, Level};
@@ -183,14 +183,6 @@ pub(super) fn compared(c: &Comparison, yours: &Shape, expected: &Shape) -> Compa
         student_of,
         stands_for,
     }
-}
-
-/// One direction the case is seen from: a camera framing the input, one
-/// framing the expected result (and yours), and why it looks there.
-pub(super) struct View {
-    pub(super) input: Camera,
-    pub(super) result: Camera,
-    pub(super) why: &'static str,
 }
 
 /// Everything shown for one case, computed before any HTML is written.
@@ -431,84 +423,17 @@ pub(super) fn pictures(f: &Fixture, r: &CaseReport) -> CasePictures {
         });
     }
 
-    // Where to look from: at the case's edge, else at the first problem,
-    // else from a corner.
-    let middle = |s: &Shape| s.bounds().map(|(lo, hi)| (lo + hi) / 2.0);
-    let input_center = middle(&input).unwrap_or(DVec3::ZERO);
-    let center = middle(&expected).unwrap_or(input_center);
-    let edge_normal = case_edge.and_then(|[a, b]| {
-        let prepared = Prepared::new(&input);
-        let n: DVec3 = input
-            .faces
-            .iter()
-            .filter(|face| sides(face).any(|s| s == [a, b]))
-            .filter_map(|face| input.face_normal(face))
-            .map(|n| n.normalize_or_zero() * prepared.outward)
-            .sum();
-        n.try_normalize().or_else(|| {
-            let m = (input.point(a)? + input.point(b)?) / 2.0 - input_center;
-            m.try_normalize()
-        })
-    });
-    // The first problem, seen along the surface's normal there (from the
-    // centre where the surface says nothing).
-    let looking_at = |s: &Shape, vertices: &[usize]| -> Option<DVec3> {
-        let p = vertices.iter().filter_map(|&v| s.point(v)).sum::<DVec3>()
-            / vertices.len().max(1) as f64;
-        let outward = Prepared::new(s).outward;
-        let n: DVec3 = s
-            .faces
-            .iter()
-            .filter(|face| face.iter().any(|v| vertices.contains(v)))
-            .filter_map(|face| s.face_normal(face))
-            .map(|n| n.normalize_or_zero() * outward)
-            .sum();
-        n.try_normalize().or_else(|| (p - center).try_normalize())
-    };
-    let problem = marks_expected
-        .wrong_points
-        .first()
-        .and_then(|(k, _)| looking_at(&expected, &[*k]))
-        .or_else(|| {
-            let (s, _) = marks_yours.wrong_points.first()?;
-            looking_at(yours.as_ref()?, &[*s])
-        })
-        .or_else(|| {
-            let [a, b] = *marks_expected.wrong_edges.first()?;
-            looking_at(&expected, &[a, b])
-        });
-    let (dir, why) = match (edge_normal, problem) {
-        (Some(n), _) => (n, "facing the case's edge"),
-        (None, Some(n)) => (n, "facing the first problem"),
-        (None, None) => (DVec3::new(0.55, 0.45, 0.75), "from a corner"),
-    };
-    // A little from above, so that no view is exactly edge-on.
-    let d1 = (dir + DVec3::new(0.12, 0.3, 0.08))
-        .try_normalize()
-        .unwrap_or(DVec3::Z);
-    let d2 = DVec3::new(d1.z, d1.y, -d1.x);
-    let cameras = [
-        (d1, why),
-        (d2, "turned a quarter round"),
-        (-d1, "from the opposite side"),
-    ]
-    .into_iter()
-    .map(|(d, why)| View {
-        // The input in its own frame, the expected result and yours in the
-        // expected one's (yours may be anywhere: what lies outside is
-        // pinned to the border).
-        input: Camera::fit(d, &input.points),
-        result: Camera::fit(
-            d,
-            if expected.bounds().is_some() {
-                &expected.points
-            } else {
-                &input.points
-            },
-        ),
-        why,
-    })
-    .collect();
+    let cameras = views(
+        &input,
+        &expected,
+        yours.as_ref(),
+        case_edge,
+        Problems {
+            expected_point: marks_expected.wrong_points.first().map(|p| p.0),
+            yours_point: marks_yours.wrong_points.first().map(|p| p.0),
+            expected_edge: marks_expected.wrong_edges.first().copied(),
+        },
+    );
     let student_of_expected = (0..expected.len()).map(student_of).collect();
     let input_of_expected = (0..expected.len())
         .map(|i| if i < n_in { id(i) } else { None })

@@ -12,7 +12,8 @@
 //! - `faces.rs`: what can be drawn of a mesh, and the expected result's
 //!   faces rebuilt from its edges;
 //! - `marks.rs`: what is wrong (the comparison, the elements the messages
-//!   name) and where to look from;
+//!   name);
+//! - `view.rs`: where to look from, and the camera that projects;
 //! - `svg.rs`: the static pictures;
 //! - `inspector.rs`: the data the inspector reads (each mesh's full
 //!   connectivity, the marks, the handout's names, the step-through
@@ -30,6 +31,7 @@ mod inspector;
 mod marks;
 mod page;
 mod svg;
+mod view;
 
 pub use inspector::{Frames, FRAME_LIMIT};
 pub use page::{

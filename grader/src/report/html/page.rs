@@ -13,11 +13,10 @@ use super::faces::Shape;
 use halfedge::{Element, VertexId};
 
 use super::inspector::{self, Frames};
-use super::marks::{
-    named_elements, pictures, resolve_names, CasePictures, Marks, View, LABEL_LIMIT,
-};
+use super::marks::{named_elements, pictures, resolve_names, CasePictures, Marks, LABEL_LIMIT};
 use super::sides;
-use super::svg::{draw, legend, shade_css, Camera, Prepared};
+use super::svg::{draw, legend, shade_css};
+use super::view::{Camera, Prepared, View};
 use crate::judge::fixture::{Fixture, Group, Operation, Returns};
 use crate::judge::verdict::{CaseReport, Level};
 

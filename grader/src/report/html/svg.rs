@@ -6,92 +6,13 @@
 use std::collections::HashSet;
 use std::fmt::Write as _;
 
-use halfedge::DVec3;
-
-use super::faces::Shape;
+use super::escape;
 use super::marks::{Marks, Named, LABEL_LIMIT};
-use super::{escape, sides};
+use super::view::{Camera, Prepared, Screen, SIZE};
 
-/// Side of one picture, in CSS pixels.
-pub(super) const SIZE: f64 = 230.0;
-/// Room left around the mesh's bounding sphere in a picture.
-pub(super) const MARGIN: f64 = 14.0;
 /// Vertex dots are drawn on meshes up to this many vertices (beyond, they
 /// would hide the faces).
 pub(super) const DOT_LIMIT: usize = 400;
-
-/// A camera looking at the mesh from `dir`, orthographic.
-pub(super) struct Camera {
-    pub(super) dir: DVec3,
-    pub(super) right: DVec3,
-    pub(super) up: DVec3,
-    pub(super) center: DVec3,
-    pub(super) scale: f64,
-    pub(super) light: DVec3,
-}
-
-/// A projected point: screen x, y (pixels, y down), depth (pixels, larger
-/// is nearer), and whether it was pinned to the border.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Screen {
-    pub(super) x: f64,
-    pub(super) y: f64,
-    pub(super) depth: f64,
-    pub(super) pinned: bool,
-}
-
-impl Camera {
-    /// Looks from `dir`, framing `points` as tightly as the picture allows.
-    pub(super) fn fit(dir: DVec3, points: &[Option<DVec3>]) -> Camera {
-        let dir = dir.try_normalize().unwrap_or(DVec3::Z);
-        let world_up = if dir.y.abs() > 0.97 {
-            DVec3::NEG_Z
-        } else {
-            DVec3::Y
-        };
-        let right = world_up.cross(dir).normalize();
-        let up = dir.cross(right);
-        let light = (dir * 0.8 + up * 0.55 - right * 0.35).normalize();
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for p in points.iter().flatten() {
-            let q = DVec3::new(p.dot(right), p.dot(up), p.dot(dir));
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        if !(lo.is_finite() && hi.is_finite()) {
-            (lo, hi) = (DVec3::splat(-1.0), DVec3::ONE);
-        }
-        let mid = (lo + hi) / 2.0;
-        let extent = (hi.x - lo.x)
-            .max(hi.y - lo.y)
-            .max(1e-9 * (hi - lo).length())
-            .max(1e-300);
-        Camera {
-            dir,
-            right,
-            up,
-            center: right * mid.x + up * mid.y + dir * mid.z,
-            scale: (SIZE - 2.0 * MARGIN) / extent,
-            light,
-        }
-    }
-
-    pub(super) fn project(&self, p: DVec3) -> Screen {
-        let q = p - self.center;
-        let x = SIZE / 2.0 + q.dot(self.right) * self.scale;
-        let y = SIZE / 2.0 - q.dot(self.up) * self.scale;
-        let depth = q.dot(self.dir) * self.scale;
-        let (lo, hi) = (1.0, SIZE - 1.0);
-        let pinned = !(lo..=hi).contains(&x) || !(lo..=hi).contains(&y);
-        Screen {
-            x: x.clamp(lo, hi),
-            y: y.clamp(lo, hi),
-            depth: if depth.is_finite() { depth } else { 0.0 },
-            pinned,
-        }
-    }
-}
 
 /// A position in a picture in tenths of a pixel (pictures use one
 /// decimal: finer is invisible, coarser makes dense meshes jagged).
@@ -196,41 +117,6 @@ impl Occluder {
             let inside = l1 >= -1e-6 && l2 >= -1e-6 && l3 >= -1e-6;
             inside && l1 * a.depth + l2 * b.depth + l3 * c.depth > s.depth + 1.0
         })
-    }
-}
-
-/// One shape ready for its pictures: its winding sense and closedness,
-/// computed once for the three views.
-pub(super) struct Prepared<'a> {
-    pub(super) shape: &'a Shape,
-    /// +1 when faces wind counter-clockwise seen from outside, else -1.
-    pub(super) outward: f64,
-    pub(super) closed: bool,
-    /// Edges that are no face's side, drawn as lines.
-    pub(super) loose: Vec<[usize; 2]>,
-}
-
-impl<'a> Prepared<'a> {
-    pub(super) fn new(shape: &'a Shape) -> Prepared<'a> {
-        let all: Vec<usize> = (0..shape.faces.len()).collect();
-        let outward = if shape.orientation(&all).0 < 0.0 {
-            -1.0
-        } else {
-            1.0
-        };
-        let in_faces: HashSet<[usize; 2]> = shape.faces.iter().flat_map(|f| sides(f)).collect();
-        let loose = shape
-            .edges
-            .iter()
-            .filter(|e| !in_faces.contains(*e))
-            .copied()
-            .collect();
-        Prepared {
-            shape,
-            outward,
-            closed: shape.is_closed(),
-            loose,
-        }
     }
 }
 
