@@ -20,6 +20,7 @@ use grader::judge::fixture::{self, Group, Operation};
 use halfedge::{shapes, DVec3, EdgeId, Mesh};
 
 use crate::cases::{self, Case};
+use crate::render;
 use crate::solution::{self, Weights};
 
 /// A small deterministic generator (SplitMix64): the same seed gives the
@@ -178,7 +179,7 @@ pub fn write(dir: &Path, seed: u64, weights: Weights) -> Result<Vec<String>, Str
     let io = |e: std::io::Error, p: &Path| format!("{}: {e}", p.display());
     let cases = cases(seed, weights);
     for case in &cases {
-        let f = cases::make_fixture(case).map_err(|e| format!("fresh case {}: {e}", case.name))?;
+        let f = render::make_fixture(case).map_err(|e| format!("fresh case {}: {e}", case.name))?;
         let path = dir.join(f.relative_path());
         std::fs::create_dir_all(path.parent().expect("a group folder"))
             .map_err(|e| io(e, &path))?;

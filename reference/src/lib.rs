@@ -7,8 +7,9 @@
 //! - [`catalogue`]: the implementations the grader is tested with: other
 //!   correct answers, one per common mistake (also the fixtures' hints) and
 //!   attacks on the grader, among them the visible cases' lookup table.
-//! - [`cases`]: the built-in cases and turning a case into a fixture;
-//!   [`local`]: the local shapes each counted flip and split rule is tried on.
+//! - [`cases`]: the built-in cases; [`local`]: the local shapes each
+//!   counted flip and split rule is tried on; [`render`]: a case made a
+//!   fixture by running the model solution on it.
 //! - [`fresh`]: cases on meshes nobody has seen, drawn per submission.
 //! - [`deadline`]: the last commit before a deadline, read out of a
 //!   student's repository without running anything of theirs.
@@ -30,6 +31,7 @@ pub mod handout;
 pub mod local;
 pub mod overview;
 pub mod platforms;
+pub mod render;
 pub mod roster;
 pub mod similarity;
 pub mod solution;

@@ -26,11 +26,7 @@
 //! [`facts`] reads what a case exercises back from any mesh and edge, so
 //! the contract test checks coverage by content, not by case names.
 
-use grader::judge::fixture::{Group, Operation};
 use halfedge::{DVec3, Mesh, VertexId};
-
-use crate::cases::{case, Case};
-use crate::solution::Weights;
 
 /// What is on one side of the case's edge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -442,37 +438,6 @@ fn merge_quad(faces: &mut Vec<Vec<usize>>, side: usize) {
         .position(|f| *f == tri)
         .expect("the edge's face");
     faces[i] = vec![tri[0], tri[1], q, tri[2]];
-}
-
-/// A local shape's cases: a flip of `a`-`b` (counted: every refusal is
-/// the contract's), and a split of it (counted, but beside a hole: that is
-/// boundary support, the bonus).
-pub fn cases(out: &mut Vec<Case>, weights: Weights) {
-    for shape in shapes() {
-        let f = facts(&shape.mesh, [0, 1]).expect("a shape's edge joins a and b");
-        out.push(case(
-            &format!("local-flip-{}", shape.slug),
-            &shape.object,
-            Group::Lab,
-            &shape.mesh,
-            Operation::Flip { edge: [0, 1] },
-            weights,
-        ));
-        let beside_hole = f.sides.iter().any(|s| s.is_hole());
-        let group = if beside_hole && f.split_legal() {
-            Group::Bonus
-        } else {
-            Group::Lab
-        };
-        out.push(case(
-            &format!("local-split-{}", shape.slug),
-            &shape.object,
-            group,
-            &shape.mesh,
-            Operation::Split { edge: [0, 1] },
-            weights,
-        ));
-    }
 }
 
 #[cfg(test)]

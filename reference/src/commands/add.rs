@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use grader::judge::fixture::{self, Group, MeshData, Operation};
 use halfedge::Mesh;
 use reference::cases::{self, Case};
+use reference::render;
 use reference::solution::{self, Weights};
 
 use super::obj::{check_rounds, flip_refusal, obj_edge, read_obj};
@@ -146,7 +147,7 @@ pub fn run(args: Args) -> Outcome {
     let taken = cases::builtin(Weights::Warren)
         .iter()
         .map(|c| c.name.clone())
-        .chain(cases::added_cases(&root, &[])?.into_iter().map(|c| c.name))
+        .chain(render::added_cases(&root, &[])?.into_iter().map(|c| c.name))
         .any(|n| n == name);
     if taken {
         return Err(format!("a case named {name:?} exists already: pass --name"));
@@ -161,12 +162,12 @@ pub fn run(args: Args) -> Outcome {
         weights: args.weights.weights(),
         tolerance: args.tolerance,
     };
-    let f = cases::make_fixture(&case)?;
+    let f = render::make_fixture(&case)?;
     let path = root.join(f.relative_path());
     std::fs::create_dir_all(path.parent().expect("a group folder")).map_err(|e| e.to_string())?;
     std::fs::write(&path, fixture::to_json_text(&f))
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    cases::write_sums(&root)?;
+    render::write_sums(&root)?;
     println!("wrote {}", path.display());
     Ok(ExitCode::SUCCESS)
 }

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use reference::cases;
+use reference::render;
 use reference::solution::Weights;
 
 use super::{fixtures_dir, Outcome, Weighting};
@@ -26,7 +26,7 @@ pub fn run(args: Args) -> Outcome {
 }
 
 fn write(root: &Path, check: bool, weights: Weights) -> Outcome {
-    let files = cases::render_all(root, weights)?;
+    let files = render::render_all(root, weights)?;
     let mut stale = Vec::new();
     for (rel, text) in &files {
         let path = root.join(rel);
