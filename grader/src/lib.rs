@@ -66,26 +66,6 @@ pub enum Format {
     Json,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum StageArg {
-    Flip,
-    Split,
-    /// Flips and splits in sequence.
-    Sequence,
-    Subdivide,
-}
-
-impl StageArg {
-    fn stage(self) -> Stage {
-        match self {
-            StageArg::Flip => Stage::Flip,
-            StageArg::Split => Stage::Split,
-            StageArg::Sequence => Stage::Sequence,
-            StageArg::Subdivide => Stage::Subdivide,
-        }
-    }
-}
-
 /// Grades crates/meshedit: flip_edge, split_edge and loop_subdivide.
 ///
 /// Exit status: 0 when every counted case passes, 1 when one fails, 2 when
@@ -98,7 +78,7 @@ pub struct Cli {
     pub case: Option<String>,
     /// Run only the cases of one function.
     #[arg(long, value_enum)]
-    pub stage: Option<StageArg>,
+    pub stage: Option<Stage>,
     /// Where the fixtures are [default: ./fixtures, else the lab's own].
     #[arg(long, value_name = "DIR")]
     pub fixtures: Option<PathBuf>,
@@ -676,15 +656,7 @@ fn grade_all(
 fn partial_run(cli: &Cli) -> Option<String> {
     match (&cli.case, cli.stage) {
         (Some(case), _) => Some(format!("--case {case}")),
-        (None, Some(stage)) => Some(format!(
-            "--stage {}",
-            match stage {
-                StageArg::Flip => "flip",
-                StageArg::Split => "split",
-                StageArg::Sequence => "sequence",
-                StageArg::Subdivide => "subdivide",
-            }
-        )),
+        (None, Some(stage)) => Some(format!("--stage {}", stage.key())),
         (None, None) => None,
     }
 }
@@ -723,7 +695,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     }
     cases.retain(|(f, _)| {
         cli.case.as_ref().is_none_or(|n| *n == f.name)
-            && cli.stage.is_none_or(|s| s.stage() == f.operation.stage())
+            && cli.stage.is_none_or(|s| s == f.operation.stage())
     });
     let cases: Vec<Case> = cases
         .into_iter()
@@ -801,7 +773,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
     grade::note_dependencies(&mut reports);
     // Quadratic code: timed once subdivision is right (a warning only).
     let asked = cli.case.is_none()
-        && cli.stage.is_none_or(|s| s == StageArg::Subdivide)
+        && cli.stage.is_none_or(|s| s == Stage::Subdivide)
         && (cli.budget.is_none() || cli.time_subdivision);
     let deadline = cli.budget.map(|b| started + Duration::from_secs_f64(b));
     let scaling = scaling::wanted(&reports, asked)

@@ -183,15 +183,11 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
             continue;
         }
         let mut parts = Vec::new();
-        for stage in [Stage::Flip, Stage::Split, Stage::Sequence, Stage::Subdivide] {
+        for stage in Stage::ALL {
             let of: Vec<_> = set.iter().filter(|c| c.stage == stage).collect();
             if !of.is_empty() {
                 let ok = of.iter().filter(|c| c.passed).count();
-                let label = match stage {
-                    Stage::Sequence => "in sequence",
-                    _ => stage.function(),
-                };
-                parts.push(format!("{label} {ok}/{}", of.len()));
+                parts.push(format!("{} {ok}/{}", stage.names().tally, of.len()));
             }
         }
         log_line(
@@ -315,6 +311,9 @@ struct JsonReport<'a> {
     passed: bool,
     bonus_counted: bool,
     protections: &'a str,
+    /// Every stage of the lab with its names, in grading order: how
+    /// scripts (the grading workflow's summary) name them.
+    stages: &'static [crate::judge::fixture::StageNames],
     /// The runs and the per-call limit they were given.
     plan: &'a crate::Plan,
     /// `loop_subdivide` timed on two sizes, when it was.
@@ -346,6 +345,7 @@ pub fn json(
         passed: all_passed(cases, bonus),
         bonus_counted: bonus,
         protections,
+        stages: &crate::judge::fixture::STAGE_NAMES,
         plan,
         scaling,
         cases: cases
@@ -406,11 +406,8 @@ pub fn gradescope(cases: &[CaseReport], bonus: bool) -> String {
             output.push_str("your code printed:\n");
             output.push_str(&c.output.block_limited("", GRADESCOPE_OUTPUT_LINES));
         }
-        // A sequence is its own stage: its label names no single function.
-        let function = match c.stage {
-            Stage::Sequence => "flips and splits in sequence",
-            s => s.function(),
-        };
+        // A sequence is its own stage: its title names no single function.
+        let function = c.stage.names().title;
         let (name, visibility, tags) = match c.group {
             Group::Lab => (
                 format!("{} ({function})", c.name),

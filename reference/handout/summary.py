@@ -10,11 +10,6 @@ import json
 import os
 import sys
 
-# The grader's stages, as its JSON names them, and how the table names them.
-FUNCTIONS = [("flip", "flip_edge"), ("split", "split_edge"),
-             ("sequence", "flips and splits in sequence"), ("subdivide", "loop_subdivide")]
-
-
 def cell(text):
     """Text for one table cell: on one line, pipes escaped, in a code span
     whose fence no backtick inside can close."""
@@ -58,6 +53,9 @@ def summary(build_log, report_path):
     try:
         report = json.load(open(report_path, encoding="utf-8"))
         cases = [c for c in report["cases"] if c["group"] != "bonus" or report["bonus_counted"]]
+        # The grader's stages in grading order, as its JSON names them
+        # (key) and as the table names them (title): the grader's one list.
+        stages = [(s["key"], s["title"]) for s in report["stages"]]
     except (OSError, ValueError, KeyError, TypeError):
         report, cases = None, []
     if report is None or not cases:
@@ -69,7 +67,7 @@ def summary(build_log, report_path):
             text += "The grader did not finish: run `cargo run -p grader` and read its messages.\n"
         return text, False
     rows, total, got = [], 0, 0
-    for stage, function in FUNCTIONS:
+    for stage, function in stages:
         mine = [c for c in cases if c["stage"] == stage]
         passed = sum(1 for c in mine if c["passed"])
         first = next((c for c in mine if not c["passed"]), None)

@@ -169,24 +169,98 @@ impl Operation {
 }
 
 /// The three functions, then flips and splits in sequence, graded in
-/// this order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+/// this order. Every name a stage goes by is in [`STAGE_NAMES`].
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Stage {
     Flip,
     Split,
+    /// Flips and splits in sequence.
     Sequence,
     Subdivide,
 }
 
+/// What the lab calls a stage, wherever it is named: `--stage` and the
+/// fixtures and JSON (`key`), the messages (`function`: "flip_edge
+/// returned ..."), the summary's tally (`tally`), the case's lines ("start
+/// testing `heading` for ...", the original lab's words), the platforms'
+/// test names and tables (`title`), result columns (`column`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct StageNames {
+    pub key: &'static str,
+    pub function: &'static str,
+    pub tally: &'static str,
+    pub heading: &'static str,
+    pub title: &'static str,
+    pub column: &'static str,
+}
+
+/// Every stage's names, in grading order: the one list every crate, page
+/// and script reads (scripts through the JSON report's `stages`).
+pub const STAGE_NAMES: [StageNames; 4] = [
+    StageNames {
+        key: "flip",
+        function: "flip_edge",
+        tally: "flip_edge",
+        heading: "flip_edge",
+        title: "flip_edge",
+        column: "flip_edge",
+    },
+    StageNames {
+        key: "split",
+        function: "split_edge",
+        tally: "split_edge",
+        heading: "split_edge",
+        title: "split_edge",
+        column: "split_edge",
+    },
+    StageNames {
+        key: "sequence",
+        function: "flip_edge and split_edge",
+        tally: "in sequence",
+        heading: "flips and splits in sequence",
+        title: "flips and splits in sequence",
+        column: "in_sequence",
+    },
+    StageNames {
+        key: "subdivide",
+        function: "loop_subdivide",
+        tally: "loop_subdivide",
+        heading: "subdivision",
+        title: "loop_subdivide",
+        column: "loop_subdivide",
+    },
+];
+
 impl Stage {
+    /// Every stage, in grading order.
+    pub const ALL: [Stage; 4] = [Stage::Flip, Stage::Split, Stage::Sequence, Stage::Subdivide];
+
+    /// Its names (see [`StageNames`]).
+    pub fn names(self) -> &'static StageNames {
+        &STAGE_NAMES[self as usize]
+    }
+
+    /// The function a message names: "flip_edge returned ...".
     pub fn function(self) -> &'static str {
-        match self {
-            Stage::Flip => "flip_edge",
-            Stage::Split => "split_edge",
-            Stage::Sequence => "flip_edge and split_edge",
-            Stage::Subdivide => "loop_subdivide",
-        }
+        self.names().function
+    }
+
+    /// How `--stage`, the fixtures and the JSON name it: `flip`.
+    pub fn key(self) -> &'static str {
+        self.names().key
     }
 }
 

@@ -38,16 +38,6 @@ fn subject(f: &Fixture) -> String {
     }
 }
 
-/// What the lab calls the operation in "start testing X for ...".
-fn activity(stage: Stage) -> &'static str {
-    match stage {
-        Stage::Flip => "flip_edge",
-        Stage::Split => "split_edge",
-        Stage::Sequence => "flips and splits in sequence",
-        Stage::Subdivide => "subdivision",
-    }
-}
-
 /// Judges a case from its child's report.
 pub fn judge(f: &Fixture, child: &ChildReport) -> CaseReport {
     judge_end(f, &child.end, &child.output, None)
@@ -63,9 +53,19 @@ fn judge_end(f: &Fixture, end: &CaseEnd, output: &str, failed: Option<&str>) -> 
     let stage = f.operation.stage();
     let mut log = Log::new();
     let what = subject(f);
-    say!(log, Info, "start testing {} for {what}", activity(stage));
+    say!(
+        log,
+        Info,
+        "start testing {} for {what}",
+        stage.names().heading
+    );
     judge_run(f, end, failed, &mut log);
-    say!(log, Info, "end testing {} for {what}", activity(stage));
+    say!(
+        log,
+        Info,
+        "end testing {} for {what}",
+        stage.names().heading
+    );
     CaseReport {
         name: f.name.clone(),
         object: f.object.clone(),

@@ -176,12 +176,7 @@ fn case_data(
     frames: Option<&Frames>,
 ) -> (String, Labelled) {
     let mut out = String::with_capacity(4096);
-    let op = match f.operation {
-        Operation::Flip { .. } => "flip",
-        Operation::Split { .. } => "split",
-        Operation::Subdivide { .. } => "subdivide",
-        Operation::Sequence { .. } => "sequence",
-    };
+    let op = f.operation.stage().key();
     out.push_str("{\"name\":");
     inspector::string(&mut out, &f.name);
     let _ = write!(out, ",\"op\":\"{op}\",\"passed\":{}", r.passed);
