@@ -2,6 +2,7 @@
 //! grader reads labs as data.
 //!
 //! - [`sqrt3`]: √3 subdivision (Kobbelt, SIGGRAPH 2000), the model
-//!   solution in the student's signatures.
+//!   solution in the student's signatures; `sqrt3_stubs.rs.txt` beside it
+//!   is the exercise the student gets (a text file, not compiled here).
 
 pub mod sqrt3;
