@@ -14,6 +14,7 @@
 //! - [`deadline`]: the last commit before a deadline, read out of a
 //!   student's repository without running anything of theirs.
 //! - [`handout`]: exporting the student workspace.
+//! - [`labs`]: the labs beyond Loop subdivision (√3), not wired in yet.
 //! - [`class`]: grading a folder of submissions; [`similarity`]: pairs of
 //!   submissions that look alike (hints for the TA); [`overview`]: the
 //!   class overview page.
@@ -28,6 +29,7 @@ pub mod class;
 pub mod deadline;
 pub mod fresh;
 pub mod handout;
+pub mod labs;
 pub mod local;
 pub mod overview;
 pub mod platforms;
