@@ -629,9 +629,9 @@ fn fixture_files_round_trip_and_bad_ones_are_named() {
     let bad = |edit: &dyn Fn(&str) -> String| {
         Fixture::from_json(&edit(&text), p).unwrap_err().to_string()
     };
-    assert!(bad(&|t| t.replacen("\"schema\": 2", "\"schema\": 3", 1))
-        .starts_with("x/cone.json: schema 3, but this grader reads schema 2"));
-    assert!(bad(&|t| t.replacen("\"schema\": 2,", "", 1)).contains("no \"schema\" number"));
+    assert!(bad(&|t| t.replacen("\"schema\": 3", "\"schema\": 2", 1))
+        .starts_with("x/cone.json: schema 2, but this grader reads schema 3"));
+    assert!(bad(&|t| t.replacen("\"schema\": 3,", "", 1)).contains("no \"schema\" number"));
     // The cone is about 3 units across: tolerances from 3e-12 to 3e-2.
     for absurd in ["0", "1e-20", "1e300", "0.5"] {
         let e = bad(&|t| {
@@ -808,4 +808,33 @@ fn wrong_subdivision_edges_say_which_vertices_they_join() {
         &r,
         "new edges joining an old and a new vertex were left unflipped",
     );
+}
+
+/// A mistake's broken mesh is stored as `validate()`'s check key and read
+/// back as the check: the message's words play no part (the rewording
+/// test changes every one of them), and a key that names no check is a
+/// fixture error that says so.
+#[test]
+fn a_mistakes_broken_mesh_is_a_check_key() {
+    let f = load("lab/cone-subdivide-1.json");
+    let broken: Vec<_> = f
+        .expected
+        .mistakes
+        .iter()
+        .filter_map(|m| m.invalid)
+        .collect();
+    assert!(!broken.is_empty(), "the cone records mistakes that break the mesh");
+    let text = fixture::to_json_text(&f);
+    for check in &broken {
+        assert!(text.contains(&format!("\"invalid\": \"{}\"", check.key())));
+        assert!(!text.contains(check.message()), "{}", check.message());
+    }
+    let p = Path::new("x/cone.json");
+    let bad = text.replacen(
+        &format!("\"invalid\": \"{}\"", broken[0].key()),
+        "\"invalid\": \"Two edges join the same pair of vertices!\"",
+        1,
+    );
+    let e = Fixture::from_json(&bad, p).unwrap_err().to_string();
+    assert!(e.contains("is not a check of validate()"), "{e}");
 }

@@ -179,7 +179,7 @@ fn mistake_of(
         invalid: None,
     };
     if let Err(e) = mesh.validate() {
-        m.invalid = Some(e.message);
+        m.invalid = Some(e.check);
         return Some(m);
     }
     let ps = positions(mesh);
@@ -240,15 +240,15 @@ fn second_round_mistakes(
     out
 }
 
-/// A fixture's case, to regenerate it.
-pub fn case_of(f: &Fixture) -> Case {
+/// A fixture file's case, to regenerate it.
+pub fn case_of(f: fixture::CaseFile) -> Case {
     Case {
-        name: f.name.clone(),
-        object: f.object.clone(),
+        name: f.name,
+        object: f.object,
         group: f.group,
-        input: f.input.clone(),
+        input: f.input,
         operation: f.operation,
-        steps: f.steps.clone(),
+        steps: f.steps,
         weights: from_rule(f.weights),
         tolerance: f.tolerance,
     }
@@ -264,8 +264,8 @@ pub fn added_cases(root: &Path, builtin: &[Case]) -> Result<Vec<Case>, String> {
         if builtin.iter().any(|c| c.name == stem && c.group == group) {
             continue;
         }
-        let f = fixture::load(&path).map_err(|e| e.to_string())?;
-        out.push(case_of(&f));
+        let f = fixture::load_case(&path).map_err(|e| e.to_string())?;
+        out.push(case_of(f));
     }
     Ok(out)
 }

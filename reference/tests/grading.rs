@@ -436,7 +436,7 @@ fn usage_and_fixture_errors_exit_2_with_a_message() {
     let g = grade("reference", &["--fixtures", dir.to_str().unwrap()]);
     assert!(
         g.stderr
-            .contains("schema 7, but this grader reads schema 2"),
+            .contains("schema 7, but this grader reads schema 3"),
         "{}",
         g.stderr
     );

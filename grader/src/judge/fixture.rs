@@ -11,7 +11,13 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 /// The schema version this grader reads and the fixture generator writes.
-pub const SCHEMA: u32 = 2;
+/// 3: a mistake's broken mesh is `validate()`'s check by its key, not its
+/// message.
+pub const SCHEMA: u32 = 3;
+
+/// The oldest schema whose cases (not their expected results) the
+/// generator still reads back, to regenerate a TA's own cases.
+pub const OLDEST_CASE_SCHEMA: u32 = 2;
 
 /// One graded case.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -357,20 +363,77 @@ pub struct Mistake {
     pub positions: Option<Vec<[f64; 3]>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub edges: Option<Vec<[usize; 2]>>,
-    /// `validate()`'s message (without the element) when the mistake
-    /// breaks the mesh.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub invalid: Option<String>,
+    /// The check of `validate()` the mistake fails when it breaks the mesh,
+    /// stored by its key (`"duplicate-edge"`): a fact, never its words.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "check_key"
+    )]
+    pub invalid: Option<halfedge::Check>,
 }
 
-impl Mistake {
-    /// The check of `validate()` the mistake fails, read from the message
-    /// the fixture stores (the fixture format's way of naming it).
-    pub fn invalid_check(&self) -> Option<halfedge::Check> {
-        self.invalid
-            .as_deref()
-            .and_then(halfedge::Check::from_message)
+/// A `validate()` check in a fixture: its stable key.
+mod check_key {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(c: &Option<halfedge::Check>, s: S) -> Result<S::Ok, S::Error> {
+        match c {
+            Some(c) => s.serialize_str(c.key()),
+            None => s.serialize_none(),
+        }
     }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<halfedge::Check>, D::Error> {
+        let key = Option::<String>::deserialize(d)?;
+        key.map(|k| {
+            halfedge::Check::from_key(&k).ok_or_else(|| {
+                serde::de::Error::custom(format!("{k:?} is not a check of validate()"))
+            })
+        })
+        .transpose()
+    }
+}
+
+/// The case a fixture file describes, without its expected result: what
+/// the generator needs to regenerate a TA's own case, from this schema or
+/// an older one back to [`OLDEST_CASE_SCHEMA`] (whose expected part it
+/// rewrites anyway).
+#[derive(Clone, Debug, Deserialize)]
+pub struct CaseFile {
+    pub name: String,
+    pub object: String,
+    pub group: Group,
+    pub input: MeshData,
+    pub operation: Operation,
+    #[serde(default)]
+    pub steps: Vec<Step>,
+    pub weights: WeightRule,
+    pub tolerance: f64,
+}
+
+/// Reads a fixture file's case (see [`CaseFile`]), naming the file in
+/// every error.
+pub fn load_case(path: &Path) -> Result<CaseFile, FixtureError> {
+    let err = |message: String| FixtureError {
+        path: path.to_path_buf(),
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| err(format!("not valid JSON: {e}")))?;
+    match value.get("schema").and_then(|s| s.as_u64()) {
+        Some(s) if (OLDEST_CASE_SCHEMA as u64..=SCHEMA as u64).contains(&s) => {}
+        Some(s) => {
+            return Err(err(format!(
+                "schema {s}: this generator reads cases of schema {OLDEST_CASE_SCHEMA} to {SCHEMA}"
+            )))
+        }
+        None => return Err(err("no \"schema\" number: is this a fixture file?".into())),
+    }
+    serde_json::from_value(value).map_err(|e| err(format!("not a valid fixture's case: {e}")))
 }
 
 /// Why fixtures could not be loaded: always names the file.

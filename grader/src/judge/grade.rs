@@ -184,7 +184,7 @@ fn judge_finished(
             .expected
             .mistakes
             .iter()
-            .find(|m| m.invalid_check().is_some() && m.invalid_check() == problem.check())
+            .find(|m| m.invalid.is_some() && m.invalid == problem.check())
         {
             hint!(log, f, Hint::Catalogue(m.id.clone()));
         }
