@@ -27,6 +27,7 @@ pub mod class;
 pub mod deadline;
 pub mod fresh;
 pub mod handout;
+pub mod labs;
 pub mod local;
 pub mod overview;
 pub mod platforms;
