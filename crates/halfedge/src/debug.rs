@@ -51,7 +51,10 @@ impl Mesh {
         }
     }
 
-    /// The average of the face's corners.
+    /// The mean of the face's corners' positions, however many corners it
+    /// has (not the centre of its area, which differs on an irregular
+    /// polygon).
+    #[track_caller]
     pub fn face_center(&self, f: FaceId) -> DVec3 {
         let corners = self.face_vertices(f);
         corners.iter().map(|&v| self[v].pos).sum::<DVec3>() / corners.len() as f64
@@ -69,6 +72,20 @@ impl Mesh {
         n.normalize_or_zero()
     }
 
+    /// The face's area: half the length of Newell's vector area, so any
+    /// planar polygon's exact area (a non-planar one's projected on its
+    /// best plane); 0 for a degenerate face.
+    #[track_caller]
+    pub fn face_area(&self, f: FaceId) -> f64 {
+        let corners = self.face_vertices(f);
+        let mut n = DVec3::ZERO;
+        for (i, &a) in corners.iter().enumerate() {
+            let b = corners[(i + 1) % corners.len()];
+            n += self[a].pos.cross(self[b].pos);
+        }
+        n.length() / 2.0
+    }
+
     /// The midpoint of the edge.
     pub fn edge_center(&self, e: EdgeId) -> DVec3 {
         let (a, b) = self.edge_vertices(e);
@@ -78,6 +95,73 @@ impl Mesh {
     /// The midpoint of the halfedge's edge.
     pub fn halfedge_center(&self, h: HalfedgeId) -> DVec3 {
         self.edge_center(self[h].edge)
+    }
+
+    /// A face's corners in one line, for polygons of any size:
+    /// `f3: 4 corners v0 v1 v5 v4` (`f9, boundary: ...` for a hole), in the
+    /// order of [`Mesh::face_vertices`].
+    ///
+    /// Unlike the walks, this never panics, so it can be logged on a mesh
+    /// being rebuilt: an id that names nothing and a `next` walk that does
+    /// not come back (bounded by the number of halfedges) are said in the
+    /// line, e.g. `f3: the walk from h7 does not come back after 40 steps
+    /// (v0 v1 v0 v1 ...): call mesh.validate()`.
+    pub fn describe_corners(&self, f: FaceId) -> String {
+        let (vertices, _, faces, halfedges) = self.records();
+        let Some(face) = faces.get(f.index()) else {
+            return format!("{f}: no such face (the mesh has {})", faces.len());
+        };
+        let head = if face.is_boundary {
+            format!("{f}, boundary")
+        } else {
+            f.to_string()
+        };
+        let name = |v: VertexId| {
+            if v.index() < vertices.len() {
+                v.to_string()
+            } else {
+                format!("{v} (no such vertex)")
+            }
+        };
+        // A broken walk names only its first corners: a line, not a page.
+        let first = |corners: &[VertexId]| {
+            let mut text: Vec<String> = corners.iter().take(8).map(|&v| name(v)).collect();
+            if corners.len() > 8 {
+                text.push("...".into());
+            }
+            if text.is_empty() {
+                "none".into()
+            } else {
+                text.join(" ")
+            }
+        };
+        let start = face.halfedge;
+        let mut corners = Vec::new();
+        let mut h = start;
+        loop {
+            let Some(record) = halfedges.get(h.index()) else {
+                return format!(
+                    "{head}: the walk from {start} reaches {h}, which names no halfedge \
+                     (corners so far: {}): call mesh.validate()",
+                    first(&corners)
+                );
+            };
+            corners.push(record.vertex);
+            h = record.next;
+            if h == start {
+                break;
+            }
+            if corners.len() >= halfedges.len() {
+                return format!(
+                    "{head}: the walk from {start} does not come back after {} steps \
+                     (corners: {}): call mesh.validate()",
+                    corners.len(),
+                    first(&corners)
+                );
+            }
+        }
+        let all: Vec<String> = corners.iter().map(|&v| name(v)).collect();
+        format!("{head}: {} corners {}", corners.len(), all.join(" "))
     }
 
     /// The area-weighted average of the normals of the real faces at `v`.

@@ -1,7 +1,7 @@
 //! # A half-edge mesh for the subdivision lab
 //!
-//! A triangle mesh stored so that every neighbour of every element is one or
-//! two steps away. Each edge is split into two **halfedges** running in
+//! A polygon mesh (the Loop lab's are all triangles) stored so that every
+//! neighbour of every element is one or two steps away. Each edge is split into two **halfedges** running in
 //! opposite directions, one inside each of the two faces the edge borders.
 //! A halfedge knows its `twin` (the other side), its `next` (the following
 //! halfedge around its face), the `vertex` it starts from, its `edge` and its
@@ -119,6 +119,8 @@
 //! - [`traverse`]: walks around faces and vertices.
 //! - [`build`]: from indexed polygons, with an error for every bad input.
 //! - [`obj`]: OBJ files in and out; [`shapes`]: the lab's objects and more.
+//! - [`polygons`]: faces of any size: counts by degree, canonical face
+//!   lists to compare meshes by, triangles to draw.
 //! - [`validate`]: consistency checks; [`debug`]: describe, centre, normal.
 //! - [`logging`]: the lab's `file.rs:LINE [info] message` log format.
 //! - [`recording`]: the grader's step-through switch (off in normal use).
@@ -129,6 +131,7 @@ pub mod ids;
 pub mod logging;
 pub mod mesh;
 pub mod obj;
+pub mod polygons;
 pub mod recording;
 pub mod shapes;
 pub mod traverse;
@@ -138,4 +141,5 @@ pub use build::MeshError;
 pub use glam::DVec3;
 pub use ids::{EdgeId, Element, FaceId, HalfedgeId, Ids, VertexId};
 pub use mesh::{Edge, Face, Halfedge, Mesh, Vertex};
+pub use polygons::FaceDegrees;
 pub use validate::{Check, Invalid};

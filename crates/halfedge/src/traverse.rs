@@ -91,6 +91,16 @@ impl Mesh {
         self.orbit_len(self[f].halfedge, |h| self[h].next, || f.to_string())
     }
 
+    /// The edges around face `f`, in the order of [`Mesh::face_halfedges`]:
+    /// the edge of `mesh[f].halfedge` first.
+    #[track_caller]
+    pub fn face_edges(&self, f: FaceId) -> Vec<EdgeId> {
+        self.face_halfedges(f)
+            .into_iter()
+            .map(|h| self[h].edge)
+            .collect()
+    }
+
     /// The halfedges that start at `v`, one per incident edge, starting with
     /// `mesh[v].halfedge` and turning by `twin` then `next`.
     ///
@@ -120,6 +130,19 @@ impl Mesh {
         self.vertex_halfedges(v)
             .into_iter()
             .map(|h| self.halfedge_dst(h))
+            .collect()
+    }
+
+    /// The faces around `v`, one per halfedge leaving it, in the order of
+    /// [`Mesh::vertex_halfedges`] (the face of each halfedge). On a boundary
+    /// vertex the hole's face is among them, once: keep the real ones with
+    /// `.filter(|&f| !mesh[f].is_boundary)`. An interior vertex has as many
+    /// faces as edges; a boundary vertex one real face fewer.
+    #[track_caller]
+    pub fn vertex_faces(&self, v: VertexId) -> Vec<FaceId> {
+        self.vertex_halfedges(v)
+            .into_iter()
+            .map(|h| self[h].face)
             .collect()
     }
 
