@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use autograde::grade::{self, STAGES};
 use autograde::platform;
-use autograde::upload::{find_lib_rs, is_link};
+use autograde::upload::{is_link, read_source, take_lib_rs};
 use grader::isolate::build_sandbox::{Build, Outcome};
 use grader::report::quoted::{self, Quoted};
 
@@ -40,9 +40,11 @@ pub struct Submission {
 }
 
 /// The entries of `dir`, each with its file or the reason it has none:
-/// `NAME.rs`, a folder (see [`find_lib_rs`]), or anything else (named as not
+/// `NAME.rs`, a folder (see [`take_lib_rs`]), or anything else (named as not
 /// a submission). Only names starting with `.` are left out (`.DS_Store`).
 /// Names are unique: entries that would share one keep their file names.
+/// Each file is looked at as [`read_source`] reads it: a named pipe, a
+/// device or a file over the cap is that entry's reason, never opened.
 pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
@@ -64,10 +66,15 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
         } else if path.is_dir() {
             (
                 file_name.clone(),
-                find_lib_rs(&path).map_err(|e| e.message()),
+                take_lib_rs(&path)
+                    .map(|(lib_rs, _)| lib_rs)
+                    .map_err(|e| e.message()),
             )
         } else if let Some(stem) = file_name.strip_suffix(".rs") {
-            (stem.to_string(), Ok(path.clone()))
+            let lib_rs = read_source(&path)
+                .map(|_| path.clone())
+                .map_err(|why| why.message(&file_name));
+            (stem.to_string(), lib_rs)
         } else {
             let why = if file_name.ends_with(".zip") {
                 "a zip archive: unpack it into a folder of the same name".to_string()
@@ -279,12 +286,11 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
 }
 
 /// A private copy of the class's `fixtures` with the fresh cases of the
-/// submission `lib_rs` added (its seed from the hidden cases' digest list
-/// and the file's bytes), and that seed.
-fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(TempDir, u64), String> {
+/// submission whose file holds `bytes` added (its seed from the hidden
+/// cases' digest list and those bytes), and that seed.
+fn fresh_fixtures(fixtures: &Path, bytes: &[u8]) -> Result<(TempDir, u64), String> {
     let secret = crate::fresh::secret_of(fixtures)?;
-    let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
-    let seed = crate::fresh::seed_for(&secret, &bytes);
+    let seed = crate::fresh::seed_for(&secret, bytes);
     Ok((fixtures_with_fresh(fixtures, seed)?.0, seed))
 }
 
@@ -468,7 +474,7 @@ pub fn grade_class(
         .map(|s| {
             let mut all = settings.clone().into_bytes();
             match &s.lib_rs {
-                Ok(path) => all.extend_from_slice(&std::fs::read(path).ok()?),
+                Ok(path) => all.extend_from_slice(&read_source(path).ok()?),
                 // Not graded, for a reason that is part of the result.
                 Err(why) => all.extend_from_slice(format!("no file: {why}").as_bytes()),
             }
@@ -1148,7 +1154,9 @@ fn at_deadline(
                     snap.commit,
                     quoted::csv_field(&snap.date)
                 );
-                s.lib_rs = find_lib_rs(&into.join(i.to_string())).map_err(|e| e.message());
+                s.lib_rs = take_lib_rs(&into.join(i.to_string()))
+                    .map(|(lib_rs, _)| lib_rs)
+                    .map_err(|e| e.message());
             }
             Err(why) => s.lib_rs = Err(why),
         }
@@ -1162,8 +1170,8 @@ fn similar_submissions(students: &[Submission], stubs: &str) -> Vec<crate::simil
     let files: Vec<(String, String)> = students
         .iter()
         .filter_map(|s| {
-            let text = std::fs::read_to_string(s.lib_rs.as_ref().ok()?).ok()?;
-            Some((s.name.clone(), text))
+            let bytes = read_source(s.lib_rs.as_ref().ok()?).ok()?;
+            Some((s.name.clone(), String::from_utf8(bytes).ok()?))
         })
         .collect();
     crate::similarity::similar_pairs(&files, stubs, crate::similarity::THRESHOLD)
@@ -1347,11 +1355,22 @@ fn grade_one(
 
     // A pristine copy for each student: nothing a previous submission did
     // to its copy survives, nor its compiled crate in the target folder.
+    // Read as every platform reads it: a file that changed into a pipe, a
+    // device or a large file since it was found is this row's reason.
+    let bytes = match read_source(lib_rs) {
+        Ok(bytes) => bytes,
+        Err(why) => {
+            let shown = lib_rs.file_name().unwrap_or_default().to_string_lossy();
+            let why = why.message(&shown);
+            not_graded(&mut row, "no submission", &autograde::shown(&why), &why)?;
+            return Ok(row);
+        }
+    };
     let work = jail.lab.as_path();
     let _ = std::fs::remove_dir_all(work);
     copy_keeping_times(template, work)?;
-    std::fs::copy(lib_rs, work.join("crates/meshedit/src/lib.rs"))
-        .map_err(|e| format!("{}: {e}", lib_rs.display()))?;
+    let student = work.join("crates/meshedit/src/lib.rs");
+    std::fs::write(&student, &bytes).map_err(|e| format!("{}: {e}", student.display()))?;
     forget_submission(&jail.target);
 
     // Outside the copy the student's code runs in.
@@ -1387,7 +1406,7 @@ fn grade_one(
     // This submission's fresh cases, in a private copy of the fixtures
     // (removed once it is graded).
     let fresh = if options.fresh {
-        Some(fresh_fixtures(fixtures, lib_rs)?)
+        Some(fresh_fixtures(fixtures, &bytes)?)
     } else {
         None
     };
