@@ -102,6 +102,47 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
         .collect())
 }
 
+/// Longest a report's file name may start with a row's name (in bytes):
+/// with `.results.json` it stays within a file system's 255.
+const STEM_BYTES: usize = 100;
+
+/// The name (before `.txt`, `.log`, ...) a row's files are written under:
+/// the row's name itself where it is plain (letters and digits of any
+/// script and `-_.@+=,()~`, not starting with `.`, at most [`STEM_BYTES`]
+/// bytes, and not ending as a name chosen here does), else its plain
+/// characters (any other as `_`, cut at [`STEM_BYTES`]) and `-` with 16
+/// hex digits of its SHA-256, so that two names never share one. So no
+/// name a student chose becomes a path, a URL scheme (`javascript:`), a
+/// control or bidirectional character in a file name, or a name too long
+/// to write: the files are the tool's, and so are the pages' links.
+pub fn file_stem(name: &str) -> String {
+    let plain = |c: char| c.is_alphanumeric() || "-_.@+=,()~".contains(c);
+    let looks_chosen = name.len() >= 17
+        && name.is_char_boundary(name.len() - 17)
+        && name[name.len() - 17..].starts_with('-')
+        && name[name.len() - 16..]
+            .bytes()
+            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b));
+    if !name.is_empty()
+        && name.len() <= STEM_BYTES
+        && !name.starts_with('.')
+        && name.chars().all(plain)
+        && !looks_chosen
+    {
+        return name.to_string();
+    }
+    let mut stem = String::new();
+    for c in name.chars() {
+        let c = if plain(c) { c } else { '_' };
+        if stem.len() + c.len_utf8() > STEM_BYTES {
+            break;
+        }
+        stem.push(if stem.is_empty() && c == '.' { '_' } else { c });
+    }
+    let digest = sha256::sha256_hex(name.as_bytes());
+    format!("{stem}-{}", &digest[..16])
+}
+
 /// How one submission did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -395,7 +436,8 @@ fn forget_submission(target: &Path) {
 
 /// Grades every entry of `submissions` into `out`: `NAME.txt` (a short
 /// report), `NAME.log` (the build and every case in full),
-/// `NAME.results.json` (Gradescope's format) and `summary.csv`.
+/// `NAME.results.json` (Gradescope's format) and `summary.csv`, `NAME`
+/// being the row's [`file_stem`].
 pub fn grade_class(
     root: &Path,
     submissions: &Path,
@@ -679,17 +721,18 @@ pub fn grade_class(
         .map_err(|e| e.to_string())?;
     let overview: Vec<crate::overview::Student> = all
         .iter()
-        .map(|r| crate::overview::Student {
-            name: r.name.clone(),
-            score: r.score,
-            max: r.max,
-            status: r.status.clone(),
-            first_failure: r.first_failure.clone(),
-            cases: r.cases.clone(),
-            report: out
-                .join(format!("{}.txt", r.name))
-                .is_file()
-                .then(|| format!("{}.txt", r.name)),
+        .map(|r| {
+            // The report this tool wrote, by the name it chose.
+            let report = format!("{}.txt", file_stem(&r.name));
+            crate::overview::Student {
+                name: r.name.clone(),
+                score: r.score,
+                max: r.max,
+                status: r.status.clone(),
+                first_failure: r.first_failure.clone(),
+                cases: r.cases.clone(),
+                report: out.join(&report).is_file().then_some(report),
+            }
         })
         .collect();
     std::fs::write(
@@ -975,7 +1018,7 @@ fn settings_key(root: &Path, options: &Options) -> String {
 /// `NAME.row.json`: a student's finished result and the key it was graded
 /// under.
 fn row_path(out: &Path, name: &str) -> PathBuf {
-    out.join(format!("{name}.row.json"))
+    out.join(format!("{}.row.json", file_stem(name)))
 }
 
 /// A student's finished result in `out` and its key ("" when the entry had
@@ -1010,28 +1053,30 @@ fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
 /// `from`'s reports as `to`'s, whose file is identical: the short report
 /// names `to` and says whose file was graded.
 fn copy_reports(out: &Path, from: &str, to: &str) -> Result<(), String> {
+    let (from_file, to_file) = (file_stem(from), file_stem(to));
     for ext in ["log", "results.json"] {
         let (a, b) = (
-            out.join(format!("{from}.{ext}")),
-            out.join(format!("{to}.{ext}")),
+            out.join(format!("{from_file}.{ext}")),
+            out.join(format!("{to_file}.{ext}")),
         );
         std::fs::copy(&a, &b).map_err(|e| format!("{}: {e}", a.display()))?;
     }
-    let path = out.join(format!("{from}.txt"));
+    let path = out.join(format!("{from_file}.txt"));
     let short = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let (from_shown, to_shown) = (quoted::one_line(from), quoted::one_line(to));
     let rest = short
         .strip_prefix(from_shown.as_str())
         .unwrap_or(&short)
-        .replace(&format!("{from_shown}.log"), &format!("{to_shown}.log"));
+        .replace(&format!("{from_file}.log"), &format!("{to_file}.log"));
     let (head, tail) = rest.split_once('\n').unwrap_or((&rest, ""));
+    let path = out.join(format!("{to_file}.txt"));
     std::fs::write(
-        out.join(format!("{to}.txt")),
+        &path,
         format!(
             "{to_shown}{head}\n  (graded once: this file is byte for byte {from_shown}'s)\n{tail}"
         ),
     )
-    .map_err(|e| format!("{to}.txt: {e}"))
+    .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Adds a `no submission` row for every roster student without one, and
@@ -1305,7 +1350,7 @@ fn grade_one(
 ) -> Result<Row, String> {
     let max: usize = counts.iter().sum();
     let write = |ext: &str, text: &str| {
-        let path = out.join(format!("{}.{ext}", s.name));
+        let path = out.join(format!("{}.{ext}", file_stem(&s.name)));
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
     };
     let mut row = Row {
@@ -1563,7 +1608,7 @@ fn grade_one(
         let _ = writeln!(short, "  {line}");
     }
     if compiler.contains("warning") {
-        let _ = writeln!(short, "\ncompiler warnings: see {}.log", s.name);
+        let _ = writeln!(short, "\ncompiler warnings: see {}.log", file_stem(&s.name));
     }
     if !failures.is_empty() {
         let _ = writeln!(short, "\nfailed cases:");
@@ -1573,7 +1618,7 @@ fn grade_one(
         if failures.len() > 10 {
             let _ = writeln!(short, "  ... and {} more", failures.len() - 10);
         }
-        let _ = writeln!(short, "\nthe full log: {}.log", s.name);
+        let _ = writeln!(short, "\nthe full log: {}.log", file_stem(&s.name));
     }
     write("txt", &short)?;
     write("log", &full)?;
@@ -1583,4 +1628,62 @@ fn grade_one(
 
 fn pretty(v: &serde_json::Value) -> String {
     serde_json::to_string_pretty(v).expect("JSON")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::file_stem;
+
+    #[test]
+    fn plain_names_keep_their_files_and_no_other_name_shapes_one() {
+        for plain in [
+            "alice",
+            "bob.rs",
+            "=cmd()",
+            "+1",
+            "-2",
+            "@loopy",
+            "pia@uni.edu",
+            "张三",
+        ] {
+            assert_eq!(file_stem(plain), plain);
+        }
+        let hostile = [
+            "javascript:alert(document.title)",
+            "a b",
+            "a_b",
+            "line\nbreak",
+            "\u{202e}gnp.exe",
+            "..",
+            ".hidden",
+            "a/b",
+            "",
+            &"x".repeat(250),
+            &"x".repeat(251),
+        ];
+        let mut seen = std::collections::HashSet::new();
+        for name in hostile {
+            let stem = file_stem(name);
+            assert!(seen.insert(stem.clone()), "{name:?} shares {stem}");
+            assert!(stem.len() <= 100 + 17, "{name:?}: {stem}");
+            assert!(!stem.starts_with('.'), "{name:?}: {stem}");
+            assert!(
+                stem.chars()
+                    .all(|c| c.is_alphanumeric() || "-_.@+=,()~".contains(c)),
+                "{name:?}: {stem}"
+            );
+            // What a plain name keeps is never what a chosen one is.
+            assert_eq!(file_stem(&stem) == stem, name == "a_b", "{name:?}: {stem}");
+        }
+        let chosen = file_stem("javascript:alert(document.title)");
+        assert!(
+            chosen.starts_with("javascript_alert(document.title)-"),
+            "{chosen}"
+        );
+        assert_ne!(
+            file_stem(&chosen),
+            chosen,
+            "a name shaped like a chosen one"
+        );
+    }
 }
