@@ -716,9 +716,18 @@ pub fn grade_class(
     // also with --only), and the page that shows the class at a glance.
     let stubs = std::fs::read_to_string(template.join("crates/meshedit/src/lib.rs"))
         .map_err(|e| format!("the lab's stubs: {e}"))?;
-    let pairs = similar_submissions(&everyone, &stubs);
+    let (pairs, not_compared) = similar_submissions(&everyone, &stubs);
     std::fs::write(out.join("similarity.csv"), crate::similarity::csv(&pairs))
         .map_err(|e| e.to_string())?;
+    for f in &not_compared {
+        eprintln!(
+            "similarity: {} ({} bytes) is larger than the {} KiB compared: left out of \
+             similarity.csv but for an identical file",
+            quoted::one_line(&f.name),
+            f.bytes,
+            crate::similarity::MAX_BYTES >> 10
+        );
+    }
     let overview: Vec<crate::overview::Student> = all
         .iter()
         .map(|r| {
@@ -737,7 +746,7 @@ pub fn grade_class(
         .collect();
     std::fs::write(
         out.join("overview.html"),
-        crate::overview::page("Class overview", &overview, &pairs),
+        crate::overview::page("Class overview", &overview, &pairs, &not_compared),
     )
     .map_err(|e| e.to_string())?;
     Ok(rows)
@@ -1210,16 +1219,26 @@ fn at_deadline(
 }
 
 /// The similarity hints over every submission whose file can be read (at
-/// the deadline's commit with `--before`).
-fn similar_submissions(students: &[Submission], stubs: &str) -> Vec<crate::similarity::Pair> {
-    let files: Vec<(String, String)> = students
+/// the deadline's commit with `--before`), and the files too large to
+/// compare. One file is held at a time: each is read, fingerprinted and
+/// let go.
+fn similar_submissions(
+    students: &[Submission],
+    stubs: &str,
+) -> (
+    Vec<crate::similarity::Pair>,
+    Vec<crate::similarity::NotCompared>,
+) {
+    let fingerprinter = crate::similarity::Fingerprinter::new(stubs);
+    let prints = students
         .iter()
         .filter_map(|s| {
             let bytes = read_source(s.lib_rs.as_ref().ok()?).ok()?;
-            Some((s.name.clone(), String::from_utf8(bytes).ok()?))
+            let text = String::from_utf8(bytes).ok()?;
+            Some(fingerprinter.of(&s.name, &text))
         })
         .collect();
-    crate::similarity::similar_pairs(&files, stubs, crate::similarity::THRESHOLD)
+    crate::similarity::pairs_of(prints, crate::similarity::THRESHOLD)
 }
 
 /// The rows `summary.json` holds (none when there is no such file).

@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use crate::similarity::Pair;
+use crate::similarity::{NotCompared, Pair};
 
 /// One case of one student's grade.
 #[derive(Clone, Debug, PartialEq)]
@@ -192,8 +192,14 @@ text-align:left;vertical-align:top}th{background:#f3f3f3}td.num{text-align:right
 .bin{fill:#4a7ebb}.count{font-size:11px;text-anchor:middle}.axis{font-size:11px;\
 text-anchor:middle;fill:#555}.bad{color:#b00}.text{white-space:pre-wrap;font-family:monospace}";
 
-/// The whole page.
-pub fn page(title: &str, students: &[Student], pairs: &[Pair]) -> String {
+/// The whole page (`not_compared`: the files too large for the similarity
+/// hints).
+pub fn page(
+    title: &str,
+    students: &[Student],
+    pairs: &[Pair],
+    not_compared: &[NotCompared],
+) -> String {
     let mut html = format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
          <meta http-equiv=\"Content-Security-Policy\" content=\"{POLICY}\">\
@@ -280,6 +286,17 @@ pub fn page(title: &str, students: &[Student], pairs: &[Pair]) -> String {
         }
         html.push_str("</table>\n");
     }
+    if !not_compared.is_empty() {
+        html.push_str(&format!(
+            "<p id=\"not-compared\">Not compared (larger than {} KiB; only an identical file \
+             would be listed):</p>\n<ul>",
+            crate::similarity::MAX_BYTES >> 10
+        ));
+        for f in not_compared {
+            let _ = write!(html, "<li>{} ({} bytes)</li>", escape(&f.name), f.bytes);
+        }
+        html.push_str("</ul>\n");
+    }
     html.push_str(
         "<h2>Students</h2>\n<table id=\"students\"><tr><th>student</th><th>score</th>\
          <th>status</th><th>first failure</th></tr>",
@@ -361,7 +378,7 @@ mod tests {
 
     #[test]
     fn student_text_is_escaped() {
-        let html = page("class <1>", &class(), &[]);
+        let html = page("class <1>", &class(), &[], &[]);
         assert!(!html.contains("<script>"), "{html}");
         assert!(html.contains("&lt;script&gt;x&lt;/script&gt;"));
         assert!(html.contains("<title>class &lt;1&gt;</title>"));
@@ -379,7 +396,7 @@ mod tests {
             format!("{name}.txt"),
         ] {
             hostile.report = Some(report);
-            let html = page("class", std::slice::from_ref(&hostile), &[]);
+            let html = page("class", std::slice::from_ref(&hostile), &[], &[]);
             let href = html
                 .split("<a href=\"")
                 .nth(1)
@@ -396,7 +413,7 @@ mod tests {
         }
         assert_eq!(relative_url("a b/c:d#e?.txt"), "./a%20b%2Fc%3Ad%23e%3F.txt");
         assert_eq!(relative_url("张.txt"), "./%E5%BC%A0.txt");
-        let html = page("class", &class(), &[]);
+        let html = page("class", &class(), &[], &[]);
         assert!(
             html.contains(
                 "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none';"
