@@ -28,8 +28,8 @@ use autograde::upload::{is_link, read_source, take_lib_rs};
 use grader::isolate::build_sandbox::{Build, Outcome};
 use grader::report::quoted::{self, Quoted};
 
-use crate::handout::{self, private_temp_dir, Purpose};
-use tempfile::TempDir;
+use crate::handout::{self, Purpose};
+use crate::scratch::{make_private, run_dir, RunDir};
 
 /// One entry of the submissions folder.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -329,7 +329,7 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
 /// A private copy of the class's `fixtures` with the fresh cases of the
 /// submission whose file holds `bytes` added (its seed from the hidden
 /// cases' digest list and those bytes), and that seed.
-fn fresh_fixtures(fixtures: &Path, bytes: &[u8]) -> Result<(TempDir, u64), String> {
+fn fresh_fixtures(fixtures: &Path, bytes: &[u8]) -> Result<(RunDir, u64), String> {
     let secret = crate::fresh::secret_of(fixtures)?;
     let seed = crate::fresh::seed_for(&secret, bytes);
     Ok((fixtures_with_fresh(fixtures, seed)?.0, seed))
@@ -337,11 +337,19 @@ fn fresh_fixtures(fixtures: &Path, bytes: &[u8]) -> Result<(TempDir, u64), Strin
 
 /// A private copy of `fixtures` with the fresh cases of `seed` added: what
 /// one submission is graded on (also timed by `reference bench`), and the
-/// names of the fresh cases.
-pub fn fixtures_with_fresh(fixtures: &Path, seed: u64) -> Result<(TempDir, Vec<String>), String> {
-    let dir = private_temp_dir("meshlab-fresh-")?;
-    copy_keeping_times(fixtures, dir.path())?;
+/// names of the fresh cases. Its folders 0700 and files 0600 (it holds
+/// the hidden cases), swept by the next run if this one is killed.
+pub fn fixtures_with_fresh(fixtures: &Path, seed: u64) -> Result<(RunDir, Vec<String>), String> {
+    let dir = run_dir("meshlab-fresh-")?;
+    // The groups only: not the lock file of a run's own copy.
+    for group in ["lab", "bonus", "hidden"] {
+        let from = fixtures.join(group);
+        if from.is_dir() {
+            copy_keeping_times(&from, &dir.path().join(group))?;
+        }
+    }
     let names = crate::fresh::write(dir.path(), seed, crate::solution::Weights::Warren)?;
+    make_private(dir.path())?;
     Ok((dir, names))
 }
 
@@ -463,11 +471,20 @@ pub fn grade_class(
     };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
+    // What a killed run left (its copy of the hidden cases among it).
+    let swept = crate::scratch::sweep(&std::env::temp_dir());
+    if options.progress && !swept.is_empty() {
+        eprintln!(
+            "removed {} temporary folders a class run that was stopped left behind",
+            swept.len()
+        );
+    }
     // Outside the lab (a copy may not land inside what it copies), under
     // names no student can guess.
-    // Private (0700) and removed when dropped, whichever way grading ends.
-    let scratch_dir = private_temp_dir("meshlab-class-")?;
-    let fixtures_dir = private_temp_dir("meshlab-fixtures-")?;
+    // Private (0700) and removed when dropped, whichever way grading ends;
+    // swept by the next run when this one is killed.
+    let scratch_dir = run_dir("meshlab-class-")?;
+    let fixtures_dir = run_dir("meshlab-fixtures-")?;
     let (scratch, fixtures) = (scratch_dir.path(), fixtures_dir.path());
     let template = scratch.join("template");
     handout::copy_lab(root, &template, Purpose::Grading)?;
@@ -497,6 +514,8 @@ pub fn grade_class(
             std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
         }
     }
+    // The hidden cases and their digest list: this user's alone.
+    make_private(fixtures)?;
     let mut counts = grade::counted(fixtures, options.bonus);
     if options.fresh {
         // Fresh cases are single operations: flip, split, subdivide.
@@ -766,7 +785,7 @@ fn prepare_workers(
     scratch: &Path,
     jobs: usize,
     options: &Options,
-) -> Result<(Workers, Option<TempDir>), String> {
+) -> Result<(Workers, Option<RunDir>), String> {
     let (build_dir, _cleanup_build) = match &options.build_dir {
         Some(dir) => {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -782,7 +801,7 @@ fn prepare_workers(
             (dir, None)
         }
         None => {
-            let dir = private_temp_dir("meshlab-build-")?;
+            let dir = run_dir("meshlab-build-")?;
             (dir.path().to_path_buf(), Some(dir))
         }
     };
