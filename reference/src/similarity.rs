@@ -209,8 +209,9 @@ pub fn similar_pairs(files: &[(String, String)], stubs: &str, threshold: f64) ->
 /// The pairs of [`similar_pairs`] from each file's fingerprint, and the
 /// files too large to compare (still paired when identical).
 pub fn pairs_of(mut files: Vec<Fingerprint>, threshold: f64) -> (Vec<Pair>, Vec<NotCompared>) {
-    let limit = ((files.len() as f64 * COMMON) as usize).max(COMMON_MIN);
     let lists: Vec<&[u64]> = files.iter().filter_map(|f| f.runs.as_deref()).collect();
+    // Half of the files compared: one too large to compare shares no run.
+    let limit = ((lists.len() as f64 * COMMON) as usize).max(COMMON_MIN);
     let common = common_runs(&lists, limit);
     for f in &mut files {
         if let Some(runs) = &mut f.runs {
