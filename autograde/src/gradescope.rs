@@ -313,8 +313,11 @@ fn grade_upload(places: &Places, options: &Options, log: &Log) -> Value {
     };
     let not_graded =
         |message: String| platform::gradescope(&Outcome::NotGraded { message, counts });
-    let uploaded = match crate::upload::find_lib_rs(&places.submission()) {
-        Ok(p) => p,
+    // A named pipe or a device in the upload is refused unopened, a
+    // large file unread (see `read_source`): the upload still gets its
+    // results.json.
+    let (uploaded, text) = match crate::upload::take_lib_rs(&places.submission()) {
+        Ok(found) => found,
         Err(why) => {
             log.say(&why.message());
             return not_graded(why.message());
@@ -326,10 +329,6 @@ fn grade_upload(places: &Places, options: &Options, log: &Log) -> Value {
         .display()
         .to_string();
     log.say(&format!("grading {rel}"));
-    let text = match std::fs::read(&uploaded) {
-        Ok(t) => t,
-        Err(e) => return not_graded(format!("{rel}: {e}")),
-    };
     // Root's alone: the fixtures copied into it hold the hidden cases.
     let work_dir = match crate::private_temp_dir("meshlab-grading-") {
         Ok(d) => d,

@@ -23,10 +23,13 @@ use std::path::Path;
 use grader::report::quoted::{self, Quoted};
 
 /// A new temporary folder only this user may enter (0700), under a name
-/// nobody can guess, removed when dropped.
+/// nobody can guess, removed when dropped. (`tempfile` alone makes it as
+/// the umask says: 0755 by default.)
 pub fn private_temp_dir(prefix: &str) -> Result<tempfile::TempDir, String> {
+    use std::os::unix::fs::PermissionsExt;
     tempfile::Builder::new()
         .prefix(prefix)
+        .permissions(std::fs::Permissions::from_mode(0o700))
         .tempdir()
         .map_err(|e| {
             format!(

@@ -60,8 +60,10 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
     let start = Instant::now();
     let left = || local.budget - start.elapsed().as_secs_f64();
     let counts = grade::counted(&local.fixtures, local.bonus);
-    let lib = match crate::upload::find_lib_rs(&local.submission) {
-        Ok(p) => p,
+    // The student's to refuse (a named pipe, a device, a file too large),
+    // never the setup's: see `read_source`.
+    let text = match crate::upload::take_lib_rs(&local.submission) {
+        Ok((_, text)) => text,
         Err(why) => {
             return Ok(Outcome::NotGraded {
                 message: why.message(),
@@ -69,7 +71,6 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
             })
         }
     };
-    let text = std::fs::read(&lib).map_err(|e| format!("{}: {e}", lib.display()))?;
     let student = local.lab.join("crates/meshedit/src/lib.rs");
     std::fs::write(&student, text).map_err(|e| format!("{}: {e}", student.display()))?;
     let vendor = match &local.vendor {

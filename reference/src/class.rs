@@ -24,12 +24,12 @@ use std::time::Instant;
 
 use autograde::grade::{self, STAGES};
 use autograde::platform;
-use autograde::upload::{find_lib_rs, is_link};
+use autograde::upload::{is_link, read_source, take_lib_rs};
 use grader::isolate::build_sandbox::{Build, Outcome};
 use grader::report::quoted::{self, Quoted};
 
-use crate::handout::{self, private_temp_dir, Purpose};
-use tempfile::TempDir;
+use crate::handout::{self, Purpose};
+use crate::scratch::{make_private, run_dir, RunDir};
 
 /// One entry of the submissions folder.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -40,9 +40,11 @@ pub struct Submission {
 }
 
 /// The entries of `dir`, each with its file or the reason it has none:
-/// `NAME.rs`, a folder (see [`find_lib_rs`]), or anything else (named as not
+/// `NAME.rs`, a folder (see [`take_lib_rs`]), or anything else (named as not
 /// a submission). Only names starting with `.` are left out (`.DS_Store`).
 /// Names are unique: entries that would share one keep their file names.
+/// Each file is looked at as [`read_source`] reads it: a named pipe, a
+/// device or a file over the cap is that entry's reason, never opened.
 pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
@@ -64,10 +66,15 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
         } else if path.is_dir() {
             (
                 file_name.clone(),
-                find_lib_rs(&path).map_err(|e| e.message()),
+                take_lib_rs(&path)
+                    .map(|(lib_rs, _)| lib_rs)
+                    .map_err(|e| e.message()),
             )
         } else if let Some(stem) = file_name.strip_suffix(".rs") {
-            (stem.to_string(), Ok(path.clone()))
+            let lib_rs = read_source(&path)
+                .map(|_| path.clone())
+                .map_err(|why| why.message(&file_name));
+            (stem.to_string(), lib_rs)
         } else {
             let why = if file_name.ends_with(".zip") {
                 "a zip archive: unpack it into a folder of the same name".to_string()
@@ -93,6 +100,47 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
             s
         })
         .collect())
+}
+
+/// Longest a report's file name may start with a row's name (in bytes):
+/// with `.results.json` it stays within a file system's 255.
+const STEM_BYTES: usize = 100;
+
+/// The name (before `.txt`, `.log`, ...) a row's files are written under:
+/// the row's name itself where it is plain (letters and digits of any
+/// script and `-_.@+=,()~`, not starting with `.`, at most [`STEM_BYTES`]
+/// bytes, and not ending as a name chosen here does), else its plain
+/// characters (any other as `_`, cut at [`STEM_BYTES`]) and `-` with 16
+/// hex digits of its SHA-256, so that two names never share one. So no
+/// name a student chose becomes a path, a URL scheme (`javascript:`), a
+/// control or bidirectional character in a file name, or a name too long
+/// to write: the files are the tool's, and so are the pages' links.
+pub fn file_stem(name: &str) -> String {
+    let plain = |c: char| c.is_alphanumeric() || "-_.@+=,()~".contains(c);
+    let looks_chosen = name.len() >= 17
+        && name.is_char_boundary(name.len() - 17)
+        && name[name.len() - 17..].starts_with('-')
+        && name[name.len() - 16..]
+            .bytes()
+            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b));
+    if !name.is_empty()
+        && name.len() <= STEM_BYTES
+        && !name.starts_with('.')
+        && name.chars().all(plain)
+        && !looks_chosen
+    {
+        return name.to_string();
+    }
+    let mut stem = String::new();
+    for c in name.chars() {
+        let c = if plain(c) { c } else { '_' };
+        if stem.len() + c.len_utf8() > STEM_BYTES {
+            break;
+        }
+        stem.push(if stem.is_empty() && c == '.' { '_' } else { c });
+    }
+    let digest = sha256::sha256_hex(name.as_bytes());
+    format!("{stem}-{}", &digest[..16])
 }
 
 /// How one submission did.
@@ -279,22 +327,29 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
 }
 
 /// A private copy of the class's `fixtures` with the fresh cases of the
-/// submission `lib_rs` added (its seed from the hidden cases' digest list
-/// and the file's bytes), and that seed.
-fn fresh_fixtures(fixtures: &Path, lib_rs: &Path) -> Result<(TempDir, u64), String> {
+/// submission whose file holds `bytes` added (its seed from the hidden
+/// cases' digest list and those bytes), and that seed.
+fn fresh_fixtures(fixtures: &Path, bytes: &[u8]) -> Result<(RunDir, u64), String> {
     let secret = crate::fresh::secret_of(fixtures)?;
-    let bytes = std::fs::read(lib_rs).map_err(|e| format!("{}: {e}", lib_rs.display()))?;
-    let seed = crate::fresh::seed_for(&secret, &bytes);
+    let seed = crate::fresh::seed_for(&secret, bytes);
     Ok((fixtures_with_fresh(fixtures, seed)?.0, seed))
 }
 
 /// A private copy of `fixtures` with the fresh cases of `seed` added: what
 /// one submission is graded on (also timed by `reference bench`), and the
-/// names of the fresh cases.
-pub fn fixtures_with_fresh(fixtures: &Path, seed: u64) -> Result<(TempDir, Vec<String>), String> {
-    let dir = private_temp_dir("meshlab-fresh-")?;
-    copy_keeping_times(fixtures, dir.path())?;
+/// names of the fresh cases. Its folders 0700 and files 0600 (it holds
+/// the hidden cases), swept by the next run if this one is killed.
+pub fn fixtures_with_fresh(fixtures: &Path, seed: u64) -> Result<(RunDir, Vec<String>), String> {
+    let dir = run_dir("meshlab-fresh-")?;
+    // The groups only: not the lock file of a run's own copy.
+    for group in ["lab", "bonus", "hidden"] {
+        let from = fixtures.join(group);
+        if from.is_dir() {
+            copy_keeping_times(&from, &dir.path().join(group))?;
+        }
+    }
     let names = crate::fresh::write(dir.path(), seed, crate::solution::Weights::Warren)?;
+    make_private(dir.path())?;
     Ok((dir, names))
 }
 
@@ -389,7 +444,8 @@ fn forget_submission(target: &Path) {
 
 /// Grades every entry of `submissions` into `out`: `NAME.txt` (a short
 /// report), `NAME.log` (the build and every case in full),
-/// `NAME.results.json` (Gradescope's format) and `summary.csv`.
+/// `NAME.results.json` (Gradescope's format) and `summary.csv`, `NAME`
+/// being the row's [`file_stem`].
 pub fn grade_class(
     root: &Path,
     submissions: &Path,
@@ -415,11 +471,20 @@ pub fn grade_class(
     };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
+    // What a killed run left (its copy of the hidden cases among it).
+    let swept = crate::scratch::sweep(&std::env::temp_dir());
+    if options.progress && !swept.is_empty() {
+        eprintln!(
+            "removed {} temporary folders a class run that was stopped left behind",
+            swept.len()
+        );
+    }
     // Outside the lab (a copy may not land inside what it copies), under
     // names no student can guess.
-    // Private (0700) and removed when dropped, whichever way grading ends.
-    let scratch_dir = private_temp_dir("meshlab-class-")?;
-    let fixtures_dir = private_temp_dir("meshlab-fixtures-")?;
+    // Private (0700) and removed when dropped, whichever way grading ends;
+    // swept by the next run when this one is killed.
+    let scratch_dir = run_dir("meshlab-class-")?;
+    let fixtures_dir = run_dir("meshlab-fixtures-")?;
     let (scratch, fixtures) = (scratch_dir.path(), fixtures_dir.path());
     let template = scratch.join("template");
     handout::copy_lab(root, &template, Purpose::Grading)?;
@@ -449,6 +514,8 @@ pub fn grade_class(
             std::fs::remove_dir_all(&from).map_err(|e| format!("{}: {e}", from.display()))?;
         }
     }
+    // The hidden cases and their digest list: this user's alone.
+    make_private(fixtures)?;
     let mut counts = grade::counted(fixtures, options.bonus);
     if options.fresh {
         // Fresh cases are single operations: flip, split, subdivide.
@@ -468,7 +535,7 @@ pub fn grade_class(
         .map(|s| {
             let mut all = settings.clone().into_bytes();
             match &s.lib_rs {
-                Ok(path) => all.extend_from_slice(&std::fs::read(path).ok()?),
+                Ok(path) => all.extend_from_slice(&read_source(path).ok()?),
                 // Not graded, for a reason that is part of the result.
                 Err(why) => all.extend_from_slice(format!("no file: {why}").as_bytes()),
             }
@@ -668,27 +735,37 @@ pub fn grade_class(
     // also with --only), and the page that shows the class at a glance.
     let stubs = std::fs::read_to_string(template.join("crates/meshedit/src/lib.rs"))
         .map_err(|e| format!("the lab's stubs: {e}"))?;
-    let pairs = similar_submissions(&everyone, &stubs);
+    let (pairs, not_compared) = similar_submissions(&everyone, &stubs);
     std::fs::write(out.join("similarity.csv"), crate::similarity::csv(&pairs))
         .map_err(|e| e.to_string())?;
+    for f in &not_compared {
+        eprintln!(
+            "similarity: {} ({} bytes) is larger than the {} KiB compared: left out of \
+             similarity.csv but for an identical file",
+            quoted::one_line(&f.name),
+            f.bytes,
+            crate::similarity::MAX_BYTES >> 10
+        );
+    }
     let overview: Vec<crate::overview::Student> = all
         .iter()
-        .map(|r| crate::overview::Student {
-            name: r.name.clone(),
-            score: r.score,
-            max: r.max,
-            status: r.status.clone(),
-            first_failure: r.first_failure.clone(),
-            cases: r.cases.clone(),
-            report: out
-                .join(format!("{}.txt", r.name))
-                .is_file()
-                .then(|| format!("{}.txt", r.name)),
+        .map(|r| {
+            // The report this tool wrote, by the name it chose.
+            let report = format!("{}.txt", file_stem(&r.name));
+            crate::overview::Student {
+                name: r.name.clone(),
+                score: r.score,
+                max: r.max,
+                status: r.status.clone(),
+                first_failure: r.first_failure.clone(),
+                cases: r.cases.clone(),
+                report: out.join(&report).is_file().then_some(report),
+            }
         })
         .collect();
     std::fs::write(
         out.join("overview.html"),
-        crate::overview::page("Class overview", &overview, &pairs),
+        crate::overview::page("Class overview", &overview, &pairs, &not_compared),
     )
     .map_err(|e| e.to_string())?;
     Ok(rows)
@@ -708,7 +785,7 @@ fn prepare_workers(
     scratch: &Path,
     jobs: usize,
     options: &Options,
-) -> Result<(Workers, Option<TempDir>), String> {
+) -> Result<(Workers, Option<RunDir>), String> {
     let (build_dir, _cleanup_build) = match &options.build_dir {
         Some(dir) => {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -724,7 +801,7 @@ fn prepare_workers(
             (dir, None)
         }
         None => {
-            let dir = private_temp_dir("meshlab-build-")?;
+            let dir = run_dir("meshlab-build-")?;
             (dir.path().to_path_buf(), Some(dir))
         }
     };
@@ -969,7 +1046,7 @@ fn settings_key(root: &Path, options: &Options) -> String {
 /// `NAME.row.json`: a student's finished result and the key it was graded
 /// under.
 fn row_path(out: &Path, name: &str) -> PathBuf {
-    out.join(format!("{name}.row.json"))
+    out.join(format!("{}.row.json", file_stem(name)))
 }
 
 /// A student's finished result in `out` and its key ("" when the entry had
@@ -1004,28 +1081,30 @@ fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
 /// `from`'s reports as `to`'s, whose file is identical: the short report
 /// names `to` and says whose file was graded.
 fn copy_reports(out: &Path, from: &str, to: &str) -> Result<(), String> {
+    let (from_file, to_file) = (file_stem(from), file_stem(to));
     for ext in ["log", "results.json"] {
         let (a, b) = (
-            out.join(format!("{from}.{ext}")),
-            out.join(format!("{to}.{ext}")),
+            out.join(format!("{from_file}.{ext}")),
+            out.join(format!("{to_file}.{ext}")),
         );
         std::fs::copy(&a, &b).map_err(|e| format!("{}: {e}", a.display()))?;
     }
-    let path = out.join(format!("{from}.txt"));
+    let path = out.join(format!("{from_file}.txt"));
     let short = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let (from_shown, to_shown) = (quoted::one_line(from), quoted::one_line(to));
     let rest = short
         .strip_prefix(from_shown.as_str())
         .unwrap_or(&short)
-        .replace(&format!("{from_shown}.log"), &format!("{to_shown}.log"));
+        .replace(&format!("{from_file}.log"), &format!("{to_file}.log"));
     let (head, tail) = rest.split_once('\n').unwrap_or((&rest, ""));
+    let path = out.join(format!("{to_file}.txt"));
     std::fs::write(
-        out.join(format!("{to}.txt")),
+        &path,
         format!(
             "{to_shown}{head}\n  (graded once: this file is byte for byte {from_shown}'s)\n{tail}"
         ),
     )
-    .map_err(|e| format!("{to}.txt: {e}"))
+    .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Adds a `no submission` row for every roster student without one, and
@@ -1148,7 +1227,9 @@ fn at_deadline(
                     snap.commit,
                     quoted::csv_field(&snap.date)
                 );
-                s.lib_rs = find_lib_rs(&into.join(i.to_string())).map_err(|e| e.message());
+                s.lib_rs = take_lib_rs(&into.join(i.to_string()))
+                    .map(|(lib_rs, _)| lib_rs)
+                    .map_err(|e| e.message());
             }
             Err(why) => s.lib_rs = Err(why),
         }
@@ -1157,16 +1238,26 @@ fn at_deadline(
 }
 
 /// The similarity hints over every submission whose file can be read (at
-/// the deadline's commit with `--before`).
-fn similar_submissions(students: &[Submission], stubs: &str) -> Vec<crate::similarity::Pair> {
-    let files: Vec<(String, String)> = students
+/// the deadline's commit with `--before`), and the files too large to
+/// compare. One file is held at a time: each is read, fingerprinted and
+/// let go.
+fn similar_submissions(
+    students: &[Submission],
+    stubs: &str,
+) -> (
+    Vec<crate::similarity::Pair>,
+    Vec<crate::similarity::NotCompared>,
+) {
+    let fingerprinter = crate::similarity::Fingerprinter::new(stubs);
+    let prints = students
         .iter()
         .filter_map(|s| {
-            let text = std::fs::read_to_string(s.lib_rs.as_ref().ok()?).ok()?;
-            Some((s.name.clone(), text))
+            let bytes = read_source(s.lib_rs.as_ref().ok()?).ok()?;
+            let text = String::from_utf8(bytes).ok()?;
+            Some(fingerprinter.of(&s.name, &text))
         })
         .collect();
-    crate::similarity::similar_pairs(&files, stubs, crate::similarity::THRESHOLD)
+    crate::similarity::pairs_of(prints, crate::similarity::THRESHOLD)
 }
 
 /// The rows `summary.json` holds (none when there is no such file).
@@ -1297,7 +1388,7 @@ fn grade_one(
 ) -> Result<Row, String> {
     let max: usize = counts.iter().sum();
     let write = |ext: &str, text: &str| {
-        let path = out.join(format!("{}.{ext}", s.name));
+        let path = out.join(format!("{}.{ext}", file_stem(&s.name)));
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
     };
     let mut row = Row {
@@ -1347,11 +1438,22 @@ fn grade_one(
 
     // A pristine copy for each student: nothing a previous submission did
     // to its copy survives, nor its compiled crate in the target folder.
+    // Read as every platform reads it: a file that changed into a pipe, a
+    // device or a large file since it was found is this row's reason.
+    let bytes = match read_source(lib_rs) {
+        Ok(bytes) => bytes,
+        Err(why) => {
+            let shown = lib_rs.file_name().unwrap_or_default().to_string_lossy();
+            let why = why.message(&shown);
+            not_graded(&mut row, "no submission", &autograde::shown(&why), &why)?;
+            return Ok(row);
+        }
+    };
     let work = jail.lab.as_path();
     let _ = std::fs::remove_dir_all(work);
     copy_keeping_times(template, work)?;
-    std::fs::copy(lib_rs, work.join("crates/meshedit/src/lib.rs"))
-        .map_err(|e| format!("{}: {e}", lib_rs.display()))?;
+    let student = work.join("crates/meshedit/src/lib.rs");
+    std::fs::write(&student, &bytes).map_err(|e| format!("{}: {e}", student.display()))?;
     forget_submission(&jail.target);
 
     // Outside the copy the student's code runs in.
@@ -1387,7 +1489,7 @@ fn grade_one(
     // This submission's fresh cases, in a private copy of the fixtures
     // (removed once it is graded).
     let fresh = if options.fresh {
-        Some(fresh_fixtures(fixtures, lib_rs)?)
+        Some(fresh_fixtures(fixtures, &bytes)?)
     } else {
         None
     };
@@ -1544,7 +1646,7 @@ fn grade_one(
         let _ = writeln!(short, "  {line}");
     }
     if compiler.contains("warning") {
-        let _ = writeln!(short, "\ncompiler warnings: see {}.log", s.name);
+        let _ = writeln!(short, "\ncompiler warnings: see {}.log", file_stem(&s.name));
     }
     if !failures.is_empty() {
         let _ = writeln!(short, "\nfailed cases:");
@@ -1554,7 +1656,7 @@ fn grade_one(
         if failures.len() > 10 {
             let _ = writeln!(short, "  ... and {} more", failures.len() - 10);
         }
-        let _ = writeln!(short, "\nthe full log: {}.log", s.name);
+        let _ = writeln!(short, "\nthe full log: {}.log", file_stem(&s.name));
     }
     write("txt", &short)?;
     write("log", &full)?;
@@ -1564,4 +1666,62 @@ fn grade_one(
 
 fn pretty(v: &serde_json::Value) -> String {
     serde_json::to_string_pretty(v).expect("JSON")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::file_stem;
+
+    #[test]
+    fn plain_names_keep_their_files_and_no_other_name_shapes_one() {
+        for plain in [
+            "alice",
+            "bob.rs",
+            "=cmd()",
+            "+1",
+            "-2",
+            "@loopy",
+            "pia@uni.edu",
+            "张三",
+        ] {
+            assert_eq!(file_stem(plain), plain);
+        }
+        let hostile = [
+            "javascript:alert(document.title)",
+            "a b",
+            "a_b",
+            "line\nbreak",
+            "\u{202e}gnp.exe",
+            "..",
+            ".hidden",
+            "a/b",
+            "",
+            &"x".repeat(250),
+            &"x".repeat(251),
+        ];
+        let mut seen = std::collections::HashSet::new();
+        for name in hostile {
+            let stem = file_stem(name);
+            assert!(seen.insert(stem.clone()), "{name:?} shares {stem}");
+            assert!(stem.len() <= 100 + 17, "{name:?}: {stem}");
+            assert!(!stem.starts_with('.'), "{name:?}: {stem}");
+            assert!(
+                stem.chars()
+                    .all(|c| c.is_alphanumeric() || "-_.@+=,()~".contains(c)),
+                "{name:?}: {stem}"
+            );
+            // What a plain name keeps is never what a chosen one is.
+            assert_eq!(file_stem(&stem) == stem, name == "a_b", "{name:?}: {stem}");
+        }
+        let chosen = file_stem("javascript:alert(document.title)");
+        assert!(
+            chosen.starts_with("javascript_alert(document.title)-"),
+            "{chosen}"
+        );
+        assert_ne!(
+            file_stem(&chosen),
+            chosen,
+            "a name shaped like a chosen one"
+        );
+    }
 }

@@ -67,6 +67,39 @@ fn output(mut cmd: Command, what: &str) -> Result<Vec<u8>, String> {
     Ok(out.stdout)
 }
 
+/// Writes what `cat` (a `git cat-file blob`) prints into `target`, to one
+/// byte past the cap on a student's file
+/// ([`autograde::upload::MAX_SOURCE_BYTES`]): a larger blob is then
+/// refused by its size when it is read, as any file is, and costs neither
+/// memory nor disk on the way.
+fn copy_blob(mut cat: Command, target: &Path) -> Result<(), String> {
+    use std::io::Read as _;
+    let cap = autograde::upload::MAX_SOURCE_BYTES + 1;
+    let mut child = cat
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("cannot run git (cat-file): {e}"))?;
+    let mut file =
+        std::fs::File::create(target).map_err(|e| format!("{}: {e}", target.display()))?;
+    let mut stdout = child.stdout.take().expect("piped").take(cap);
+    let copied = std::io::copy(&mut stdout, &mut file);
+    drop(stdout);
+    let whole = copied.as_ref().is_ok_and(|&n| n < cap);
+    if !whole {
+        let _ = child.kill();
+    }
+    let out = child
+        .wait_with_output()
+        .map_err(|e| format!("cannot run git (cat-file): {e}"))?;
+    let copied = copied.map_err(|e| format!("{}: {e}", target.display()))?;
+    if copied < cap && !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!("git cat-file failed: {}", err.trim()));
+    }
+    Ok(())
+}
+
 /// A tree path that stays inside the folder it is written to.
 fn safe_relative(path: &str) -> Option<PathBuf> {
     let p = Path::new(path);
@@ -123,14 +156,13 @@ pub fn snapshot_before(repo: &Path, before: &str, into: &Path) -> Result<Snapsho
         let Some(relative) = safe_relative(path) else {
             continue;
         };
-        let mut cat = git(repo);
-        cat.args(["cat-file", "blob"]).arg(hash.unwrap_or_default());
-        let bytes = output(cat, "cat-file")?;
         let target = into.join(&relative);
         if let Some(parent) = target.parent() {
             std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
         }
-        std::fs::write(&target, bytes).map_err(|e| format!("{}: {e}", target.display()))?;
+        let mut cat = git(repo);
+        cat.args(["cat-file", "blob"]).arg(hash.unwrap_or_default());
+        copy_blob(cat, &target)?;
         files += 1;
     }
     Ok(Snapshot {
@@ -239,6 +271,26 @@ mod tests {
         let early = snapshot_before(&repo, "2026-10-01", &root.join("early"));
         let err = early.unwrap_err();
         assert!(err.contains("no commit before 2026-10-01"), "{err}");
+        let _ = std::fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn a_blob_past_the_cap_is_cut_one_byte_past_it_and_refused_when_read() {
+        let root = scratch("large");
+        let repo = root.join("mallory");
+        std::fs::create_dir_all(&repo).unwrap();
+        student_git(&repo, "2026-11-01T10:00:00Z", &["init", "-q"]);
+        let cap = autograde::upload::MAX_SOURCE_BYTES as usize;
+        commit_lib(&repo, &"x".repeat(3 * cap), "2026-11-30T10:00:00Z");
+        let into = root.join("graded");
+        snapshot_before(&repo, "2026-12-01", &into).unwrap();
+        let lib = into.join("crates/meshedit/src/lib.rs");
+        assert_eq!(std::fs::metadata(&lib).unwrap().len() as usize, cap + 1);
+        let why = autograde::upload::take_lib_rs(&into).unwrap_err().message();
+        assert!(
+            why.starts_with("crates/meshedit/src/lib.rs is larger than 1 MiB"),
+            "{why}"
+        );
         let _ = std::fs::remove_dir_all(&root);
     }
 

@@ -17,7 +17,8 @@
 //! - [`labs`]: the labs beyond Loop subdivision (√3), not wired in yet.
 //! - [`class`]: grading a folder of submissions; [`similarity`]: pairs of
 //!   submissions that look alike (hints for the TA); [`overview`]: the
-//!   class overview page.
+//!   class overview page; [`scratch`]: its private temporary folders,
+//!   swept when a killed run left them.
 //! - [`tokens`]: Rust source as normalised tokens, and the runs two
 //!   sources share (the handout's no-solution check).
 //!
@@ -35,6 +36,7 @@ pub mod overview;
 pub mod platforms;
 pub mod render;
 pub mod roster;
+pub mod scratch;
 pub mod similarity;
 pub mod solution;
 pub mod tokens;

@@ -7,12 +7,16 @@
 //!
 //! Every string that came from a submission (names, first failures, which
 //! quote the student's panics) is escaped: a student named `<script>` shows
-//! as text.
+//! as text. Links lead only to the reports this tool wrote, by the file
+//! names it chose ([`crate::class::file_stem`]), written as a relative path
+//! (`./`, every byte but a few escaped for URLs), so no link has a scheme;
+//! and the page's policy (`Content-Security-Policy`) runs no script at all,
+//! a `javascript:` URL included.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use crate::similarity::Pair;
+use crate::similarity::{NotCompared, Pair};
 
 /// One case of one student's grade.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,7 +39,8 @@ pub struct Student {
     pub first_failure: String,
     /// Every counted case the grader ran (none when it did not compile).
     pub cases: Vec<CaseResult>,
-    /// The student's report, relative to the overview page.
+    /// The student's report: a file this tool wrote beside the overview
+    /// page, by its name there.
     pub report: Option<String>,
 }
 
@@ -61,6 +66,25 @@ fn escape(text: &str) -> String {
     }
     out
 }
+
+/// `path` (a file name in the page's folder) as a relative URL: `./` and
+/// every byte but letters, digits and `-._~` percent-encoded, so that no
+/// `:` can make it a scheme and no `/`, `?` or `#` can change its meaning.
+fn relative_url(path: &str) -> String {
+    let mut out = String::from("./");
+    for b in path.bytes() {
+        if b.is_ascii_alphanumeric() || b"-._~".contains(&b) {
+            out.push(b as char);
+        } else {
+            let _ = write!(out, "%{b:02X}");
+        }
+    }
+    out
+}
+
+/// No script, no fetch, no form; the inline style and nothing else.
+const POLICY: &str = "default-src 'none'; style-src 'unsafe-inline'; base-uri 'none'; \
+                      form-action 'none'";
 
 /// The student's share of the points, 0 to 1 (0 when nothing counted).
 fn fraction(s: &Student) -> f64 {
@@ -168,10 +192,17 @@ text-align:left;vertical-align:top}th{background:#f3f3f3}td.num{text-align:right
 .bin{fill:#4a7ebb}.count{font-size:11px;text-anchor:middle}.axis{font-size:11px;\
 text-anchor:middle;fill:#555}.bad{color:#b00}.text{white-space:pre-wrap;font-family:monospace}";
 
-/// The whole page.
-pub fn page(title: &str, students: &[Student], pairs: &[Pair]) -> String {
+/// The whole page (`not_compared`: the files too large for the similarity
+/// hints).
+pub fn page(
+    title: &str,
+    students: &[Student],
+    pairs: &[Pair],
+    not_compared: &[NotCompared],
+) -> String {
     let mut html = format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <meta http-equiv=\"Content-Security-Policy\" content=\"{POLICY}\">\
          <title>{}</title><style>{STYLE}</style></head><body>\n<h1>{}</h1>\n",
         escape(title),
         escape(title)
@@ -255,13 +286,28 @@ pub fn page(title: &str, students: &[Student], pairs: &[Pair]) -> String {
         }
         html.push_str("</table>\n");
     }
+    if !not_compared.is_empty() {
+        html.push_str(&format!(
+            "<p id=\"not-compared\">Not compared (larger than {} KiB; only an identical file \
+             would be listed):</p>\n<ul>",
+            crate::similarity::MAX_BYTES >> 10
+        ));
+        for f in not_compared {
+            let _ = write!(html, "<li>{} ({} bytes)</li>", escape(&f.name), f.bytes);
+        }
+        html.push_str("</ul>\n");
+    }
     html.push_str(
         "<h2>Students</h2>\n<table id=\"students\"><tr><th>student</th><th>score</th>\
          <th>status</th><th>first failure</th></tr>",
     );
     for s in students {
         let name = match &s.report {
-            Some(link) => format!("<a href=\"{}\">{}</a>", escape(link), escape(&s.name)),
+            Some(link) => format!(
+                "<a href=\"{}\">{}</a>",
+                escape(&relative_url(link)),
+                escape(&s.name)
+            ),
             None => escape(&s.name),
         };
         let _ = write!(
@@ -332,11 +378,47 @@ mod tests {
 
     #[test]
     fn student_text_is_escaped() {
-        let html = page("class <1>", &class(), &[]);
+        let html = page("class <1>", &class(), &[], &[]);
         assert!(!html.contains("<script>"), "{html}");
         assert!(html.contains("&lt;script&gt;x&lt;/script&gt;"));
         assert!(html.contains("<title>class &lt;1&gt;</title>"));
         assert!(html.contains("data-bin=\"5\" data-count=\"2\""));
         assert!(html.contains("4 submissions; mean 50.0% of the points; 1 with full marks"));
+    }
+
+    #[test]
+    fn a_link_is_a_relative_path_whatever_the_name_and_no_script_runs() {
+        let name = "javascript:alert(document.title)";
+        let mut hostile = student(name, 0.0, "", &[]);
+        // As class grading gives it, and as a page given the raw name.
+        for report in [
+            format!("{}.txt", crate::class::file_stem(name)),
+            format!("{name}.txt"),
+        ] {
+            hostile.report = Some(report);
+            let html = page("class", std::slice::from_ref(&hostile), &[], &[]);
+            let href = html
+                .split("<a href=\"")
+                .nth(1)
+                .and_then(|l| l.split('"').next())
+                .expect("a link");
+            assert!(
+                href.starts_with("./") && !href[2..].contains(['/', ':']),
+                "{href}"
+            );
+            assert!(
+                html.contains(">javascript:alert(document.title)</a>"),
+                "{html}"
+            );
+        }
+        assert_eq!(relative_url("a b/c:d#e?.txt"), "./a%20b%2Fc%3Ad%23e%3F.txt");
+        assert_eq!(relative_url("张.txt"), "./%E5%BC%A0.txt");
+        let html = page("class", &class(), &[], &[]);
+        assert!(
+            html.contains(
+                "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none';"
+            ),
+            "{html}"
+        );
     }
 }

@@ -26,19 +26,28 @@ const KEYWORDS: &[&str] = &[
 /// The normalised tokens of `source` (Rust, or close enough: a lexing
 /// mistake costs a token, never a panic).
 pub fn normalized(source: &str) -> Vec<Token> {
-    let chars: Vec<char> = source.chars().collect();
     let mut out = Vec::new();
+    each_token(source, |text, line| {
+        out.push(Token {
+            text: text.to_string(),
+            line,
+        })
+    });
+    out
+}
+
+/// Calls `f` with each normalised token of `source` and the line it starts
+/// on, in order, keeping none: what [`normalized`] collects, in memory
+/// that does not grow with the tokens (the similarity hints read whole
+/// classes).
+pub fn each_token(source: &str, mut f: impl FnMut(&str, usize)) {
+    let chars: Vec<char> = source.chars().collect();
     let (mut i, mut line) = (0, 1);
     let at = |i: usize| chars.get(i).copied().unwrap_or('\0');
     while i < chars.len() {
         let c = chars[i];
         let start_line = line;
-        let mut push = |text: &str| {
-            out.push(Token {
-                text: text.to_string(),
-                line: start_line,
-            })
-        };
+        let mut push = |text: &str| f(text, start_line);
         if c == '\n' {
             line += 1;
             i += 1;
@@ -144,7 +153,6 @@ pub fn normalized(source: &str) -> Vec<Token> {
             i += 1;
         }
     }
-    out
 }
 
 fn is_ident(c: char) -> bool {

@@ -737,6 +737,41 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert!(ms > 0.0 && ms < good_took.as_secs_f64() * 1000.0, "{ms} ms");
     assert!(log.contains("leaderboard: loop_subdivide"), "{log}");
 
+    // What no upload's lib.rs can be: each gets its results.json at once,
+    // saying what the file is, with nothing built or read; the uploads
+    // after them are graded as ever.
+    let ta_secret = ag.join("ta-secret.txt");
+    std::fs::write(&ta_secret, "TA-FILE-TOKEN").unwrap();
+    for unfit in unfit_files(&ta_secret) {
+        let sub = ag.join("submission");
+        let _ = std::fs::remove_dir_all(&sub);
+        std::fs::create_dir_all(sub.join("crates/meshedit/src")).unwrap();
+        (unfit.make)(&sub.join("crates/meshedit/src/lib.rs"));
+        let ran = output_within(
+            Command::new(ag.join("run_autograder")).env("AUTOGRADER", &ag),
+            120,
+        );
+        let log = String::from_utf8_lossy(&ran.stdout).into_owned();
+        assert!(
+            ran.status.success(),
+            "{log}\n{}",
+            String::from_utf8_lossy(&ran.stderr)
+        );
+        let results = json(&ag.join("results/results.json"));
+        assert_eq!(results["score"].as_f64(), Some(0.0), "{log}\n{results}");
+        assert_eq!(sum(&tests_of(&results), "max_score"), max, "{results}");
+        let output = results["output"].as_str().unwrap();
+        assert!(
+            output.contains(&format!("crates/meshedit/src/lib.rs {}", unfit.says)),
+            "{}: {output}",
+            unfit.says
+        );
+        assert!(
+            !log.contains("build:") && !log.contains("TA-FILE-TOKEN"),
+            "{log}"
+        );
+    }
+
     // A whole workspace: the student's file, never another crate's lib.rs
     // (which sorts first).
     let workspace = [
@@ -1040,40 +1075,155 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     write(&subs.join("leo.rs"), &embedding_expr("\"/dev/zero\"", true));
     write(&subs.join("mia.rs"), &memory_bomb());
     write(&subs.join("lena.rs"), &lookup_table());
+    // Files no student's lib.rs can be, as a tarball unpacked by root makes
+    // them: named pipes (opening one to read blocks), devices that read
+    // without end, links to a device and to the TA's file, files of 60 MB;
+    // each as a whole entry and inside a folder. None is opened, each is
+    // its row's reason, and nothing else changes.
+    mkfifo(&subs.join("pipe.rs"));
+    std::fs::create_dir_all(subs.join("quinn/crates/meshedit/src")).unwrap();
+    mkfifo(&subs.join("quinn/crates/meshedit/src/lib.rs"));
+    let devices = mknod_zero(&subs.join("device.rs"));
+    if devices {
+        std::fs::create_dir_all(subs.join("rita/crates/meshedit/src")).unwrap();
+        assert!(mknod_zero(&subs.join("rita/crates/meshedit/src/lib.rs")));
+    }
+    std::os::unix::fs::symlink("/dev/zero", subs.join("zero.rs")).unwrap();
+    std::fs::create_dir_all(subs.join("sam/crates/meshedit/src")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", subs.join("sam/crates/meshedit/src/lib.rs")).unwrap();
+    std::os::unix::fs::symlink(&ta_file.0, subs.join("tina.rs")).unwrap();
+    std::fs::create_dir_all(subs.join("uma/crates/meshedit/src")).unwrap();
+    std::os::unix::fs::symlink(&ta_file.0, subs.join("uma/crates/meshedit/src/lib.rs")).unwrap();
+    huge_file(&subs.join("huge.rs"), 60 << 20);
+    huge_file(&subs.join("vera/crates/meshedit/src/lib.rs"), 60 << 20);
+    // Names a page or a file system would trip on: a URL scheme, 250
+    // bytes (NAME.results.json would be 263), a bidirectional override.
+    // The stubs, alice's file: graded once, copied.
+    let scheme = "javascript:alert(document.title)";
+    let long = "x".repeat(250);
+    let bidi = "evil\u{202e}gnp";
+    for name in [scheme, long.as_str(), bidi] {
+        write(&subs.join(format!("{name}.rs")), &stubs());
+    }
+    // Over the 256 KiB the similarity hints compare (under the 1 MiB a
+    // file may hold): graded, and listed as not compared but identical.
+    let padded = stubs() + &format!("// {}\n", "pad ".repeat(80_000));
+    write(&subs.join("big1.rs"), &padded);
+    write(&subs.join("big2.rs"), &padded);
     let out = dir.join("out");
     let options = reference::class::Options {
         budget: 60.0,
         ..class_options(1.0, 8.0)
     };
     let start = Instant::now();
-    let rows = reference::class::grade_class(&root(), &subs, &out, &options).unwrap();
+    let rows = {
+        let _watch = Watchdog::new(1200, "class grading of a folder with pipes and devices");
+        reference::class::grade_class(&root(), &subs, &out, &options).unwrap()
+    };
     let took = start.elapsed();
     let names: Vec<&str> = rows.iter().map(|r| r.name.as_str()).collect();
-    assert_eq!(
-        names,
-        [
-            "=cmd()",
-            "alice",
-            "bob",
-            "bob.rs",
-            "carol",
-            "dave",
-            "eve",
-            "frank",
-            "frankie",
-            "grace",
-            "heidi",
-            "ivan",
-            "judy",
-            "ken",
-            "lena",
-            "leo",
-            "mallory",
-            "mia",
-            "notes.txt"
-        ]
-    );
+    let mut expected = vec![
+        "pipe",
+        "quinn",
+        "zero",
+        "sam",
+        "tina",
+        "uma",
+        "huge",
+        "vera",
+        scheme,
+        long.as_str(),
+        bidi,
+        "big1",
+        "big2",
+    ];
+    if devices {
+        expected.extend(["device", "rita"]);
+    }
+    expected.extend([
+        "=cmd()",
+        "alice",
+        "bob",
+        "bob.rs",
+        "carol",
+        "dave",
+        "eve",
+        "frank",
+        "frankie",
+        "grace",
+        "heidi",
+        "ivan",
+        "judy",
+        "ken",
+        "lena",
+        "leo",
+        "mallory",
+        "mia",
+        "notes.txt",
+    ]);
+    let mut sorted = names.clone();
+    sorted.sort();
+    expected.sort();
+    assert_eq!(sorted, expected);
     let row = |n: &str| rows.iter().find(|r| r.name == n).unwrap();
+    // Each unfit file is its row's reason, by what it is.
+    let mut unfit = vec![
+        ("pipe", "pipe.rs is not a regular file (a named pipe)"),
+        (
+            "quinn",
+            "crates/meshedit/src/lib.rs is not a regular file (a named pipe)",
+        ),
+        ("zero", "a symbolic link"),
+        ("sam", "crates/meshedit/src/lib.rs is a symbolic link"),
+        ("tina", "a symbolic link"),
+        ("uma", "crates/meshedit/src/lib.rs is a symbolic link"),
+        ("huge", "huge.rs is larger than 1 MiB (62914560 bytes)"),
+        (
+            "vera",
+            "crates/meshedit/src/lib.rs is larger than 1 MiB (62914560 bytes)",
+        ),
+    ];
+    if devices {
+        unfit.push((
+            "device",
+            "device.rs is not a regular file (a character device)",
+        ));
+        unfit.push((
+            "rita",
+            "crates/meshedit/src/lib.rs is not a regular file (a character device)",
+        ));
+    }
+    for (name, why) in unfit {
+        let r = row(name);
+        assert_eq!(
+            (r.score, r.status.as_str()),
+            (0.0, "no submission"),
+            "{r:?}"
+        );
+        assert!(r.first_failure.contains(why), "{name}: {why:?} in {r:?}");
+        let report = std::fs::read_to_string(out.join(format!("{name}.txt"))).unwrap();
+        assert!(report.contains(why), "{report}");
+    }
+    // The hostile names: rows of their own, written under names the tool
+    // chose (none with a scheme's colon, a control character or over 255
+    // bytes), graded as the stubs they are.
+    for name in [scheme, long.as_str(), bidi] {
+        let r = row(name);
+        assert_eq!(r.status, "failed", "{r:?}");
+        assert_eq!(r.same_as.as_deref(), Some("alice"), "{r:?}");
+        let stem = reference::class::file_stem(name);
+        assert_ne!(stem, name);
+        for ext in ["txt", "log", "results.json", "row.json"] {
+            assert!(out.join(format!("{stem}.{ext}")).is_file(), "{stem}.{ext}");
+        }
+    }
+    for entry in std::fs::read_dir(&out).unwrap() {
+        let file = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(
+            !file.contains([':', '\u{202e}']) && file.len() <= 255,
+            "a file name the student chose: {file:?}"
+        );
+    }
     // Each submission also gets its fresh cases, counted like hidden ones.
     let fresh = reference::fresh::counted(false);
     let max = (counted("flip") + counted("split") + counted("sequence") + counted("subdivide"))
@@ -1227,7 +1377,8 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         .unwrap()
         .contains("icosphere"));
     for name in names {
-        let results = json(&out.join(format!("{name}.results.json")));
+        let file = reference::class::file_stem(name);
+        let results = json(&out.join(format!("{file}.results.json")));
         assert!(results["score"].as_f64().is_some(), "{name}: {results}");
     }
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
@@ -1253,7 +1404,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         "{csv}"
     );
     assert!(out.join("bob.rs.txt").is_file() && out.join("bob.txt").is_file());
-    assert_eq!(csv.lines().count(), 20, "{csv}");
+    assert_eq!(csv.lines().count(), 1 + rows.len(), "{csv}");
     // The student's name is made inert for spreadsheets; the CR is shown,
     // not a row break; the forged verdict never starts a line.
     assert!(!csv.contains('\r'), "{csv:?}");
@@ -1291,7 +1442,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     let full = rows.iter().filter(|r| r.score == r.max).count();
     assert!(full >= 1, "bob has full marks");
     assert!(
-        page.contains("19 submissions; mean")
+        page.contains(&format!("{} submissions; mean", rows.len()))
             && page.contains(&format!("; {full} with full marks")),
         "{page}"
     );
@@ -1313,7 +1464,7 @@ fn a_class_folder_gets_a_row_for_every_entry() {
     assert!(!page.contains("<script"), "no student text became markup");
     // Similarity hints: eve, frank, judy and ken wrap the same embedding
     // code around another path (strings do not count), so every pair of
-    // them is listed; the model solution itself, which 11 of these 19
+    // them is listed; the model solution itself, which 11 of these
     // files carry, is more than half the class and counts as common (as
     // MOSS's -m does), so bob and mallory are no pair for it.
     let similar = std::fs::read_to_string(out.join("similarity.csv")).unwrap();
@@ -1336,6 +1487,144 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         !similar.contains("alice,bob.rs"),
         "untouched stubs are no pair: {similar}"
     );
+    // The two large files: not compared, still found identical.
+    assert!(
+        similar
+            .lines()
+            .any(|l| l.starts_with("big1,big2,yes,100.0")),
+        "{similar}"
+    );
+    let not_compared = &page[page.find("<p id=\"not-compared\">").expect("the note")..];
+    for name in ["big1", "big2"] {
+        assert!(
+            not_compared.contains(&format!("<li>{name} ({} bytes)</li>", padded.len())),
+            "{not_compared}"
+        );
+    }
+    // Every link of the page, in a browser: it leads to a report this
+    // class run wrote, in the output folder, and clicking it runs nothing.
+    if let Some(links) = overview_links(&out) {
+        assert_eq!(links.len(), rows.len(), "{links:#?}");
+        let hrefs: Vec<&str> = links.iter().map(|l| l.href.as_str()).collect();
+        let scheme_report = format!(
+            "./{}.txt",
+            reference::class::file_stem(scheme)
+                .replace('(', "%28")
+                .replace(')', "%29")
+        );
+        assert!(hrefs.contains(&scheme_report.as_str()), "{hrefs:#?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every folder and file under `dir` with its mode (links not followed).
+fn modes(dir: &Path) -> Vec<(PathBuf, u32)> {
+    use std::os::unix::fs::PermissionsExt;
+    let mut out = vec![(
+        dir.to_path_buf(),
+        std::fs::symlink_metadata(dir).unwrap().permissions().mode() & 0o7777,
+    )];
+    if std::fs::symlink_metadata(dir).unwrap().is_dir() {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            out.extend(modes(&entry.unwrap().path()));
+        }
+    }
+    out
+}
+
+/// Asserts that every folder under `dir` is 0700 and every file 0600.
+fn assert_private(dir: &Path) {
+    let all = modes(dir);
+    assert!(all.len() > 3, "{all:?}");
+    for (path, mode) in all {
+        let want = if path.is_dir() { 0o700 } else { 0o600 };
+        assert_eq!(mode, want, "{}: {mode:o}", path.display());
+    }
+}
+
+/// Class grading's copies of the fixtures (the hidden cases, and their
+/// digest list, which seeds the fresh cases) are this user's alone while
+/// it runs; a run killed midway leaves them, and the next run removes
+/// them before it starts (and its own when it ends).
+#[test]
+fn a_killed_class_run_s_private_fixtures_are_swept_by_the_next() {
+    use std::io::BufRead;
+    let _turn = take_turn();
+    let dir = scratch("class-killed");
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    write(&dir.join("submissions/ann.rs"), &stubs());
+    let class = |subs: &str, out: &str| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_reference"));
+        cmd.arg("class")
+            .arg(dir.join(subs))
+            .arg("--out")
+            .arg(dir.join(out))
+            .arg("--build-dir")
+            .arg(class_build_dir())
+            .env("TMPDIR", &tmp);
+        cmd
+    };
+    let ours = |prefix: &str| -> Vec<PathBuf> {
+        std::fs::read_dir(&tmp)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with(prefix))
+            .collect()
+    };
+    // Killed once the fixtures are copied (the lab's build starts next).
+    let mut first = {
+        use std::os::unix::process::CommandExt;
+        class("submissions", "out")
+            .process_group(0)
+            .stderr(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    let mut seen = Vec::new();
+    for line in std::io::BufReader::new(first.stderr.take().unwrap()).lines() {
+        let line = line.unwrap();
+        seen.push(line.clone());
+        if line.starts_with("building the lab once") {
+            break;
+        }
+    }
+    let fixtures = ours("meshlab-fixtures-");
+    assert_eq!(fixtures.len(), 1, "{seen:#?}");
+    let fixtures = fixtures[0].clone();
+    assert!(fixtures.join("hidden/SHA256SUMS").is_file());
+    assert!(fixtures.join("hidden").join(a_hidden_case()).is_file());
+    assert_private(&fixtures);
+    for scratch in ours("meshlab-class-") {
+        assert_eq!(modes(&scratch)[0].1, 0o700, "{}", scratch.display());
+    }
+    // SAFETY: a signal to our own child's group.
+    unsafe { libc::kill(-(first.id() as i32), libc::SIGKILL) };
+    assert!(!first.wait().unwrap().success(), "killed: {seen:#?}");
+    assert!(fixtures.is_dir(), "a killed run cannot remove its folders");
+    let left = ours("meshlab-");
+    assert!(left.len() >= 2, "{left:?}");
+
+    // The next run (nothing to build in it) removes them first.
+    write(&dir.join("later/notes.txt"), "not a submission");
+    let second = output_within(&mut class("later", "out-later"), 300);
+    let log = String::from_utf8_lossy(&second.stderr);
+    assert!(second.status.success(), "{log}");
+    assert!(
+        log.contains(&format!(
+            "removed {} temporary folders a class run that was stopped left behind",
+            left.len()
+        )),
+        "{log}"
+    );
+    assert_eq!(ours("meshlab-"), Vec::<PathBuf>::new(), "{log}");
+
+    // Each submission's copy with its fresh cases is as private.
+    let (fresh, names) =
+        reference::class::fixtures_with_fresh(&root().join("fixtures"), 7).unwrap();
+    assert!(!names.is_empty());
+    assert_private(fresh.path());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -1828,6 +2117,184 @@ fn handout_exports_a_reformatted_workspace_manifest() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A page that loads `overview.html` in a frame and writes what its links
+/// do into `<pre id="probe">`, as JSON: every element's attributes that
+/// could run script (`on...`) or name a URL, every `<script>`, and per
+/// link its `href`, the URL it resolves to, and where the frame is after
+/// the link is clicked (the page loaded afresh for each, `alert`,
+/// `confirm`, `prompt` and `open` replaced by recorders first).
+const LINK_PROBE: &str = r#"<!doctype html><meta charset="utf-8">
+<iframe id="f" style="width:1200px;height:800px"></iframe>
+<pre id="probe">not run</pre>
+<script>
+var PAGE = new URLSearchParams(location.search).get('page');
+var frame = document.getElementById('f');
+var result = { links: [], scripts: 0, handlers: [], urls: [], called: [] };
+function hook(win) {
+  ['alert', 'confirm', 'prompt', 'open', 'print'].forEach(function (name) {
+    win[name] = function () { result.called.push(name + ': ' + Array.prototype.join.call(arguments, ',')); };
+  });
+}
+function done() { document.getElementById('probe').textContent = JSON.stringify(result); }
+function load(then) {
+  frame.onload = function () { frame.onload = null; hook(frame.contentWindow); then(frame.contentDocument); };
+  frame.src = PAGE + '?' + Math.random();
+}
+function click(k) {
+  load(function (doc) {
+    var links = doc.querySelectorAll('a[href]');
+    if (k >= links.length) { done(); return; }
+    var a = links[k];
+    var link = { href: a.getAttribute('href'), resolved: a.href, text: a.textContent, after: null };
+    result.links.push(link);
+    var next = function () {
+      if (link.after !== null) return;
+      try { link.after = frame.contentWindow.location.href; } catch (e) { link.after = 'unreadable: ' + e; }
+      click(k + 1);
+    };
+    frame.onload = next;
+    setTimeout(next, 2000);
+    a.click();
+  });
+}
+load(function (doc) {
+  result.scripts = doc.querySelectorAll('script').length;
+  doc.querySelectorAll('*').forEach(function (el) {
+    Array.prototype.forEach.call(el.attributes, function (at) {
+      var n = at.name.toLowerCase();
+      if (n.indexOf('on') === 0) result.handlers.push(el.tagName + ' ' + n);
+      if (['href', 'src', 'action', 'formaction', 'xlink:href', 'data', 'srcdoc', 'poster'].indexOf(n) >= 0)
+        result.urls.push(el.tagName + ' ' + n + '=' + at.value);
+    });
+  });
+  click(0);
+});
+</script>
+"#;
+
+/// One link of the overview, as the probe saw it.
+#[derive(Debug)]
+struct Link {
+    href: String,
+    resolved: String,
+    after: String,
+}
+
+/// What [`LINK_PROBE`] saw of `page` (in `dir`), once Chromium ran it.
+fn probe_links(dir: &Path, page: &str) -> serde_json::Value {
+    std::fs::write(dir.join("links-probe.html"), LINK_PROBE).unwrap();
+    let url = format!("file://{}/links-probe.html?page={page}", dir.display());
+    let dom = browse(
+        &dir.with_file_name("chromium"),
+        &[
+            "--allow-file-access-from-files",
+            "--virtual-time-budget=120000",
+            "--dump-dom",
+        ],
+        &url,
+    );
+    let start = dom.find("<pre id=\"probe\">").expect("the probe") + 16;
+    let end = start + dom[start..].find("</pre>").expect("the probe ends");
+    let text = dom[start..end]
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&quot;", "\"")
+        .replace("&amp;", "&");
+    let _ = std::fs::remove_file(dir.join("links-probe.html"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("the probe wrote {text:?}: {e}"))
+}
+
+/// The links of `out/overview.html`, each checked in headless Chromium:
+/// clicked, it leads to a file this run wrote in `out` (no scheme but
+/// `file:`, no other folder) and runs no script; the page has no script,
+/// no handler, no URL but its links. First the probe is shown to catch a
+/// `javascript:` link, on a copy of the page with one planted (and its
+/// policy taken out). `None` where there is no Chromium (a failure under
+/// CI or the full tier).
+fn overview_links(out: &Path) -> Option<Vec<Link>> {
+    if !have_chromium() {
+        return None;
+    }
+    let page = std::fs::read_to_string(out.join("overview.html")).unwrap();
+    let planted = page
+        .replacen(
+            "<a href=\"",
+            "<a href=\"javascript:alert(document.title)//",
+            1,
+        )
+        .replace(
+            "http-equiv=\"Content-Security-Policy\"",
+            "name=\"no-policy\"",
+        );
+    std::fs::write(out.join("planted.html"), planted).unwrap();
+    let control = probe_links(out, "planted.html");
+    let _ = std::fs::remove_file(out.join("planted.html"));
+    assert!(
+        control["called"][0]
+            .as_str()
+            .is_some_and(|c| c.starts_with("alert: Class overview")),
+        "the probe must see a planted javascript: link run: {control}"
+    );
+    let seen = probe_links(out, "overview.html");
+    assert_eq!(seen["scripts"], 0, "{seen}");
+    assert_eq!(seen["handlers"], serde_json::json!([]), "{seen}");
+    assert_eq!(
+        seen["called"],
+        serde_json::json!([]),
+        "a link ran script: {seen}"
+    );
+    let inside = format!("file://{}/", out.display());
+    let links: Vec<Link> = seen["links"]
+        .as_array()
+        .expect("the links")
+        .iter()
+        .map(|l| Link {
+            href: l["href"].as_str().unwrap().to_string(),
+            resolved: l["resolved"].as_str().unwrap().to_string(),
+            after: l["after"].as_str().unwrap_or("").to_string(),
+        })
+        .collect();
+    let urls = seen["urls"].as_array().unwrap();
+    assert_eq!(urls.len(), links.len(), "no URL but the links: {urls:#?}");
+    for link in &links {
+        let file = link
+            .resolved
+            .strip_prefix(&inside)
+            .unwrap_or_else(|| panic!("a link out of {inside}: {link:?}"));
+        assert!(!file.contains('/'), "{link:?}");
+        assert!(out.join(percent_decoded(file)).is_file(), "{link:?}");
+        assert_eq!(
+            link.after, link.resolved,
+            "the click led elsewhere: {link:?}"
+        );
+    }
+    Some(links)
+}
+
+/// A URL's path with its `%XX` escapes undone.
+fn percent_decoded(url: &str) -> String {
+    let bytes = url.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(b)) => {
+                out.push(b);
+                i += 3;
+            }
+            (b, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8(out).expect("UTF-8")
+}
+
 /// Headless Chromium's DOM of the page at `path` (`None`, after saying so,
 /// where there is no Chromium; a failure under CI or the full tier).
 fn chromium_dom(path: &Path) -> Option<String> {
@@ -2153,8 +2620,9 @@ fn a_class_of_forty_resumes_after_a_kill_merges_a_regrade_and_imports_cleanly() 
             .collect();
         assert_eq!(links.len(), 40, "every submission's report: {links:?}");
         for link in links {
-            let file = link.replace("&amp;", "&");
-            assert!(out.join(&file).is_file(), "{file}");
+            let file = percent_decoded(&link.replace("&amp;", "&"));
+            let file = file.strip_prefix("./").expect("a relative path");
+            assert!(out.join(file).is_file(), "{file}");
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();

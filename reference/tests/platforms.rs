@@ -4,7 +4,8 @@
 //! the runner's variables, `./result.json` read after; PrairieLearn: the
 //! entrypoint `run.sh` with the upload in `/grade/student`, its
 //! `/grade/results/results.json` read after), on the model solution, the
-//! stubs and a compile error.
+//! stubs, a compile error, and files no `lib.rs` can be (a named pipe, a
+//! device, links, 60 MB).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -184,6 +185,42 @@ fn classroom50_s_runner_gets_points_per_function() {
         message.contains("| error: this file contains an unclosed delimiter"),
         "{message}"
     );
+
+    // What no lib.rs can be, in the checkout: each a result at once,
+    // saying what the file is; nothing of it read or built.
+    let secret = kept("ta-secret.txt");
+    std::fs::write(&secret, "TA-FILE-TOKEN").unwrap();
+    for unfit in unfit_files(&secret) {
+        let _ = std::fs::remove_dir_all(&checkout);
+        std::fs::create_dir_all(checkout.join("crates/meshedit/src")).unwrap();
+        (unfit.make)(&checkout.join("crates/meshedit/src/lib.rs"));
+        let out = output_within(
+            Command::new("python3")
+                .arg(dir.join("autograder.py"))
+                .current_dir(&checkout)
+                .envs(env.iter().map(|(k, v)| (*k, v.as_os_str())))
+                .env("CARGO_NET_OFFLINE", "true"),
+            600,
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{stderr}");
+        let result = json(&checkout.join("result.json"));
+        assert_eq!(
+            (result["score"].as_u64(), result["max-score"].as_u64()),
+            (Some(0), Some(max)),
+            "{result}"
+        );
+        let text = result.to_string();
+        assert!(
+            text.contains(&format!("crates/meshedit/src/lib.rs {}", unfit.says)),
+            "{}: {text}",
+            unfit.says
+        );
+        assert!(
+            !text.contains("TA-FILE-TOKEN") && !stderr.contains("build protections"),
+            "{text}\n{stderr}"
+        );
+    }
 }
 
 #[test]
@@ -250,4 +287,36 @@ fn prairielearn_s_external_grader_scores_and_refuses_what_does_not_compile() {
         errors.contains("| error: this file contains an unclosed delimiter"),
         "{errors}"
     );
+
+    // What no upload's lib.rs can be: each a result at once, saying what
+    // the file is; nothing of it read or built.
+    let secret = kept("ta-secret.txt");
+    std::fs::write(&secret, "TA-FILE-TOKEN").unwrap();
+    for unfit in unfit_files(&secret) {
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(root.join("student")).unwrap();
+        (unfit.make)(&root.join("student/lib.rs"));
+        let out = output_within(
+            Command::new("sh")
+                .arg(dir.join("run.sh"))
+                .envs(env.iter().map(|(k, v)| (*k, v.as_os_str())))
+                .env("CARGO_NET_OFFLINE", "true")
+                .env("MESHLAB_GRADE_ROOT", &root),
+            600,
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{stderr}");
+        let results = json(&root.join("results/results.json"));
+        let text = results.to_string();
+        assert!(
+            text.contains(&format!("lib.rs {}", unfit.says)),
+            "{}: {text}",
+            unfit.says
+        );
+        assert_ne!(results["score"].as_f64(), Some(1.0), "{text}");
+        assert!(
+            !text.contains("TA-FILE-TOKEN") && !stderr.contains("build protections"),
+            "{text}\n{stderr}"
+        );
+    }
 }

@@ -264,3 +264,129 @@ pub fn browse(work: &Path, extra: &[&str], url: &str) -> String {
     );
     String::from_utf8_lossy(&stdout).into_owned()
 }
+
+/// Makes a named pipe at `path` (no writer: opening it to read blocks).
+pub fn mkfifo(path: &Path) {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(path.as_os_str().as_bytes()).unwrap();
+    // SAFETY: a valid C string; mkfifo only makes the file.
+    let made = unsafe { libc::mkfifo(c.as_ptr(), 0o644) };
+    assert_eq!(made, 0, "mkfifo {}", path.display());
+}
+
+/// Makes a character device at `path` with the numbers of `/dev/zero`
+/// (1, 5: it reads without end), as a tarball unpacked by root does.
+/// Only root can: elsewhere this says so and returns false (see [`skip`]).
+pub fn mknod_zero(path: &Path) -> bool {
+    use std::os::unix::ffi::OsStrExt;
+    if !is_root() {
+        skip("a character device in a submission needs root to make (mknod)");
+        return false;
+    }
+    let c = std::ffi::CString::new(path.as_os_str().as_bytes()).unwrap();
+    // SAFETY: a valid C string; mknod only makes the node.
+    let made = unsafe { libc::mknod(c.as_ptr(), libc::S_IFCHR | 0o644, libc::makedev(1, 5)) };
+    assert_eq!(made, 0, "mknod {}", path.display());
+    true
+}
+
+/// A file of `bytes` zero bytes at `path`, sparse (nothing written).
+pub fn huge_file(path: &Path, bytes: u64) {
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::File::create(path).unwrap().set_len(bytes).unwrap();
+}
+
+/// Runs `cmd` to its end and returns what it printed; kills it and fails
+/// if it takes longer than `seconds` (a run that hangs fails the test
+/// rather than hanging it).
+pub fn output_within(cmd: &mut Command, seconds: u64) -> std::process::Output {
+    use std::os::unix::process::CommandExt;
+    let child = cmd
+        .process_group(0)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the command starts");
+    let pid = child.id() as i32;
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(child.wait_with_output()));
+    match receive.recv_timeout(Duration::from_secs(seconds)) {
+        Ok(out) => out.expect("the command can be waited for"),
+        Err(_) => {
+            // SAFETY: a signal to the group of our own child.
+            unsafe { libc::kill(-pid, libc::SIGKILL) };
+            panic!("{cmd:?} did not finish within {seconds} s: it hung");
+        }
+    }
+}
+
+/// Aborts the test binary, saying why, unless dropped within `seconds`:
+/// for a call made in this process (class grading) that could hang.
+pub struct Watchdog(std::sync::Arc<std::sync::atomic::AtomicBool>);
+
+impl Watchdog {
+    pub fn new(seconds: u64, what: &'static str) -> Watchdog {
+        let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flag = done.clone();
+        std::thread::spawn(move || {
+            let deadline = Instant::now() + Duration::from_secs(seconds);
+            while Instant::now() < deadline {
+                if flag.load(std::sync::atomic::Ordering::SeqCst) {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(200));
+            }
+            eprintln!("{what}: not done within {seconds} s (it hung)");
+            std::process::abort();
+        });
+        Watchdog(done)
+    }
+}
+
+impl Drop for Watchdog {
+    fn drop(&mut self) {
+        self.0.store(true, std::sync::atomic::Ordering::SeqCst);
+    }
+}
+
+/// One file no student's `lib.rs` can be: how to make it at a path, and
+/// what its refusal says.
+pub struct Unfit {
+    pub says: &'static str,
+    pub make: Box<dyn Fn(&Path)>,
+}
+
+/// Every kind of file a student's `lib.rs` cannot be, as a tarball
+/// unpacked by root makes them: a named pipe, `/dev/zero`'s device (as
+/// root only; elsewhere a skip), links to `/dev/zero` and to `ta_file`,
+/// and 60 MB.
+pub fn unfit_files(ta_file: &Path) -> Vec<Unfit> {
+    let ta_file = ta_file.to_path_buf();
+    let mut all = vec![
+        Unfit {
+            says: "is not a regular file (a named pipe)",
+            make: Box::new(mkfifo),
+        },
+        Unfit {
+            says: "is a symbolic link",
+            make: Box::new(|p| std::os::unix::fs::symlink("/dev/zero", p).unwrap()),
+        },
+        Unfit {
+            says: "is a symbolic link",
+            make: Box::new(move |p| std::os::unix::fs::symlink(&ta_file, p).unwrap()),
+        },
+        Unfit {
+            says: "is larger than 1 MiB (62914560 bytes)",
+            make: Box::new(|p| huge_file(p, 60 << 20)),
+        },
+    ];
+    if is_root() {
+        all.push(Unfit {
+            says: "is not a regular file (a character device)",
+            make: Box::new(|p| assert!(mknod_zero(p))),
+        });
+    } else {
+        skip("a character device in a submission needs root to make (mknod)");
+    }
+    all
+}
