@@ -823,7 +823,10 @@ fn a_mistakes_broken_mesh_is_a_check_key() {
         .iter()
         .filter_map(|m| m.invalid)
         .collect();
-    assert!(!broken.is_empty(), "the cone records mistakes that break the mesh");
+    assert!(
+        !broken.is_empty(),
+        "the cone records mistakes that break the mesh"
+    );
     let text = fixture::to_json_text(&f);
     for check in &broken {
         assert!(text.contains(&format!("\"invalid\": \"{}\"", check.key())));

@@ -207,11 +207,11 @@ fn warnings() -> Vec<(String, String)> {
     // The grader's own hints are ids (`GraderHint`) whose words
     // `Hint::text` gives.
     for m in arm_strings(
-        "grader/src/judge/grade.rs",
+        "grader/src/judge/verdict.rs",
         "pub fn text(&self, f: &Fixture)",
         "GraderHint::",
     ) {
-        out.push(("grader/src/judge/grade.rs".into(), m));
+        out.push(("grader/src/judge/verdict.rs".into(), m));
     }
     let scaling = read("grader/src/judge/scaling.rs");
     for a in calls(&scaling, "format!") {

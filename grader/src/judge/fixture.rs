@@ -365,11 +365,7 @@ pub struct Mistake {
     pub edges: Option<Vec<[usize; 2]>>,
     /// The check of `validate()` the mistake fails when it breaks the mesh,
     /// stored by its key (`"duplicate-edge"`): a fact, never its words.
-    #[serde(
-        default,
-        skip_serializing_if = "Option::is_none",
-        with = "check_key"
-    )]
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "check_key")]
     pub invalid: Option<halfedge::Check>,
 }
 
