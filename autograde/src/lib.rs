@@ -4,12 +4,14 @@
 //! layout; [`grade`] builds it locked in (the grader's build launcher) and
 //! grades it one stage at a time within a budget; [`platform`] turns the
 //! outcome into Gradescope's, Classroom 50's or PrairieLearn's result file;
+//! [`clock`] reads and writes the instants those files and records hold;
 //! [`process`] runs commands with deadlines and sweeps what a submission
 //! left behind; [`setup`] readies a grading machine once (Gradescope's
 //! setup, the build user's toolchain). `reference class` (the TAs' tool)
 //! and the `autograde` program (Gradescope, Classroom 50, PrairieLearn)
 //! both call it.
 
+pub mod clock;
 pub mod grade;
 pub mod gradescope;
 pub mod local;

@@ -272,7 +272,8 @@ pub struct Classroom50 {
     pub commit: String,
     pub release: String,
     pub review: String,
-    /// UTC, ISO 8601 (the graded commit's date, as the runner asks).
+    /// UTC, ISO 8601: when the autograder ran, by the runner's clock (the
+    /// graded commit's date is the student's to set).
     pub datetime: String,
 }
 

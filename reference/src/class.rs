@@ -164,6 +164,9 @@ pub struct Row {
     /// The student whose identical file was graded for this row (a file
     /// is graded once however many submit it).
     pub same_as: Option<String>,
+    /// With `--before`: the commit graded and when it was handed in, by
+    /// which clock (the student's own when only commit dates were there).
+    pub handed_in: Option<crate::deadline::HandedIn>,
 }
 
 /// How to grade a class.
@@ -200,10 +203,14 @@ pub struct Options {
     /// More options for every grader run (tests: `--without-pid-namespace`,
     /// as on a machine without PID namespaces).
     pub grader_args: Vec<String>,
-    /// Submissions are git repositories: grade each one's last commit
-    /// before this date (anything `git rev-list --before` takes), read out
-    /// without checking anything out (see [`crate::deadline`]).
+    /// Submissions are git repositories: grade what each had handed in by
+    /// this date and time (with its zone), read out without checking
+    /// anything out (see [`crate::deadline`]).
     pub before: Option<String>,
+    /// With `before`: the platform's record of when each repository was
+    /// pushed to (see [`crate::deadline::read_records`]); without it, or for
+    /// a repository it does not name, commit dates, which are the student's.
+    pub pushes: Option<PathBuf>,
     /// Submissions graded at once, each in its own copy of the lab and its
     /// own target folder (the dependencies compiled once, then copied).
     pub jobs: usize,
@@ -249,11 +256,19 @@ pub struct ClassArgs {
     /// into the summary already in --out.
     #[arg(long, value_name = "NAME", num_args = 1..)]
     pub only: Vec<String>,
-    /// Submissions are git repositories (one per student): grade each
-    /// one's last commit before DATE ("2026-12-01 23:59 +0100"), read
-    /// out without checking anything out; commits.csv names them.
+    /// Submissions are git repositories (one per student): grade what
+    /// each had handed in by DATE ("2026-12-01 23:59 +0100", its zone
+    /// required), read out without checking anything out; commits.csv
+    /// names the commits and the clock that dated them.
     #[arg(long, value_name = "DATE")]
     pub before: Option<String>,
+    /// With --before: when each repository was pushed to, by the
+    /// platform's clock (a CSV of student,commit,pushed_at; Classroom 50's
+    /// scores.json; or a folder of NAME.json from GitHub's events or
+    /// activity API). Without it, commit dates decide, and the student
+    /// sets those.
+    #[arg(long, value_name = "FILE|DIR", requires = "before")]
+    pub pushes: Option<PathBuf>,
     /// Grade N submissions at once (each still built and run alone, in
     /// its own copy of the lab and target folder).
     #[arg(short, long, value_name = "N", default_value_t = 1,
@@ -301,6 +316,7 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
         landlock: true,
         only: args.only,
         before: args.before,
+        pushes: args.pushes.map(|p| here.join(p)),
         jobs: args.jobs.into(),
         regrade: args.regrade,
         roster: args.roster.map(|r| here.join(r)),
@@ -309,8 +325,12 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
     let out = &args.out;
     let rows = grade_class(&crate::lab_root(), &args.submissions, out, &options)?;
     for r in &rows {
+        let dated = match &r.handed_in {
+            Some(h) if h.clock.is_students() => "  [dated by its commit: the student's own clock]",
+            _ => "",
+        };
         println!(
-            "{:<24} {:>5} / {:<5} {:<16} {}",
+            "{:<24} {:>5} / {:<5} {:<16} {}{dated}",
             quoted::one_line(&r.name),
             r.score,
             r.max,
@@ -469,6 +489,14 @@ pub fn grade_class(
         Some(path) => Some(crate::roster::read(path)?),
         None => None,
     };
+    let deadline = match &options.before {
+        Some(before) => Some(crate::deadline::parse_deadline(before)?),
+        None => None,
+    };
+    let records = match &options.pushes {
+        Some(path) => Some(crate::deadline::read_records(path)?),
+        None => None,
+    };
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let out = out.canonicalize().map_err(|e| e.to_string())?;
     // What a killed run left (its copy of the hidden cases among it).
@@ -489,13 +517,23 @@ pub fn grade_class(
     let template = scratch.join("template");
     handout::copy_lab(root, &template, Purpose::Grading)?;
     let mut commits = String::new();
-    if let Some(before) = &options.before {
-        commits = at_deadline(
+    let mut handed_in = HandedInByName::new();
+    if let Some(deadline) = deadline {
+        (commits, handed_in) = at_deadline(
             &mut students,
             submissions,
-            before,
+            deadline,
+            records.as_ref(),
             &scratch.join("snapshots"),
         )?;
+        let dated = handed_in.values().filter(|h| h.clock.is_students()).count();
+        if dated > 0 {
+            eprintln!(
+                "warning: {dated} of {} repositories are {}",
+                students.len(),
+                crate::deadline::COMMIT_DATE_WARNING
+            );
+        }
     }
     // The whole class for the similarity hints, the ones asked for graded.
     let everyone = students.clone();
@@ -693,7 +731,10 @@ pub fn grade_class(
         write_row(&out, &row, keys[i].as_deref())?;
         done[i] = Some(row);
     }
-    let rows: Vec<Row> = done.into_iter().flatten().collect();
+    let mut rows: Vec<Row> = done.into_iter().flatten().collect();
+    for r in &mut rows {
+        r.handed_in = handed_in.get(&r.name).cloned();
+    }
 
     // The summary, rebuilt from every student's finished result: with
     // --only, the others' results stay as they were (their result files,
@@ -713,6 +754,10 @@ pub fn grade_class(
         } else if let Some(r) = last.iter().find(|r| r.name == s.name) {
             all.push(r.clone());
         }
+    }
+    // This run's deadline, also for rows kept from an earlier run.
+    for r in &mut all {
+        r.handed_in = handed_in.get(&r.name).cloned();
     }
     if let Some(roster) = &roster {
         join_roster(&mut all, roster, counts);
@@ -1153,6 +1198,7 @@ fn join_roster(all: &mut Vec<Row>, roster: &[crate::roster::Student], counts: [u
                 seconds: 0.0,
                 cases: Vec::new(),
                 same_as: None,
+                handed_in: None,
             });
         }
     }
@@ -1198,34 +1244,57 @@ fn canvas_csv(
     crate::roster::canvas_csv(assignment, max, &grades)
 }
 
-/// `--before`: each submission becomes its repository's last commit before
-/// the deadline, copied out into `into` (an entry that is no repository,
-/// or has no commit by then, gets a row saying so). Returns `commits.csv`.
+/// Each repository's commit graded and when it was handed in, by row name.
+type HandedInByName = std::collections::HashMap<String, crate::deadline::HandedIn>;
+
+/// `--before`: each submission becomes what its repository had handed in
+/// by the deadline (Unix seconds), copied out into `into` (an entry that is
+/// no repository, or has nothing by then, gets a row saying so), dated by
+/// `records` where they name it, else by its commit dates. Returns
+/// `commits.csv` and, by row name, the commit and when it was handed in.
 fn at_deadline(
     students: &mut [Submission],
     submissions: &Path,
-    before: &str,
+    deadline: i64,
+    records: Option<&crate::deadline::Records>,
     into: &Path,
-) -> Result<String, String> {
+) -> Result<(String, HandedInByName), String> {
     std::fs::create_dir_all(into).map_err(|e| format!("{}: {e}", into.display()))?;
-    let mut csv = String::from("student,commit,date\n");
+    let mut csv = String::from("student,commit,date,clock,committer_date\n");
+    let mut handed_in = HandedInByName::new();
     for (i, s) in students.iter_mut().enumerate() {
         let repo = submissions.join(&s.name);
         if !crate::deadline::is_repository(&repo) {
             s.lib_rs = Err(format!(
-                "not a git repository: --before {before} grades the last commit before the \
-                 deadline, and this entry has no history"
+                "not a git repository: --before {} grades what was handed in by the \
+                 deadline, and this entry has no history",
+                autograde::clock::iso8601(deadline)
             ));
             continue;
         }
-        match crate::deadline::snapshot_before(&repo, before, &into.join(i.to_string())) {
+        let theirs = records.map(|r| (r.of(&s.name), r.clock));
+        let theirs = theirs
+            .as_ref()
+            .filter(|(list, _)| !list.is_empty())
+            .map(|(list, clock)| (list.as_slice(), *clock));
+        match crate::deadline::snapshot(&repo, deadline, theirs, &into.join(i.to_string())) {
             Ok(snap) => {
                 let _ = writeln!(
                     csv,
-                    "{},{},{}",
+                    "{},{},{},{},{}",
                     quoted::csv_field(&s.name),
                     snap.commit,
-                    quoted::csv_field(&snap.date)
+                    snap.date,
+                    snap.clock.label(),
+                    snap.committer_date
+                );
+                handed_in.insert(
+                    s.name.clone(),
+                    crate::deadline::HandedIn {
+                        commit: snap.commit,
+                        at: snap.date,
+                        clock: snap.clock,
+                    },
                 );
                 s.lib_rs = take_lib_rs(&into.join(i.to_string()))
                     .map(|(lib_rs, _)| lib_rs)
@@ -1234,7 +1303,7 @@ fn at_deadline(
             Err(why) => s.lib_rs = Err(why),
         }
     }
-    Ok(csv)
+    Ok((csv, handed_in))
 }
 
 /// The similarity hints over every submission whose file can be read (at
@@ -1283,6 +1352,7 @@ impl Row {
             "cases": self.cases.iter().map(|c| serde_json::json!([c.name, c.function, c.passed]))
                 .collect::<Vec<_>>(),
             "same_as": self.same_as,
+            "handed_in": self.handed_in.as_ref().map(crate::deadline::HandedIn::to_json),
         })
     }
 
@@ -1313,6 +1383,7 @@ impl Row {
                 })
                 .collect(),
             same_as: v["same_as"].as_str().map(str::to_string),
+            handed_in: crate::deadline::HandedIn::from_json(&v["handed_in"]),
         })
     }
 }
@@ -1328,6 +1399,10 @@ pub fn summary_csv(rows: &[Row], roster: Option<&[crate::roster::Student]>) -> S
         let _ = write!(csv, ",{0},{0}_max", stage.column);
     }
     csv.push_str(",first_failure,graded_as");
+    let deadline = rows.iter().any(|r| r.handed_in.is_some());
+    if deadline {
+        csv.push_str(",commit,handed_in_at,clock");
+    }
     if roster.is_some() {
         csv.push_str(",name,section,in_roster");
     }
@@ -1355,6 +1430,14 @@ pub fn summary_csv(rows: &[Row], roster: Option<&[crate::roster::Student]>) -> S
             quoted::csv_field(&r.first_failure),
             quoted::csv_field(r.same_as.as_deref().unwrap_or(""))
         );
+        if deadline {
+            match &r.handed_in {
+                Some(h) => {
+                    let _ = write!(csv, ",{},{},{}", h.commit, h.at, h.clock.label());
+                }
+                None => csv.push_str(",,,"),
+            }
+        }
         if let Some(roster) = roster {
             match roster.iter().find(|s| s.owns(&r.name)) {
                 Some(s) => {
@@ -1401,6 +1484,7 @@ fn grade_one(
         seconds: 0.0,
         cases: Vec::new(),
         same_as: None,
+        handed_in: None,
     };
     // `why` is the student's message (its first line is the gist), `log`
     // the build's whole output.

@@ -1,8 +1,8 @@
 //! The bundles for the platforms beside Gradescope: Classroom 50 (an
-//! `autograder.py` and the lab it grades with) and PrairieLearn (an
-//! external grader's entrypoint, the lab and the fixtures). Both run the
-//! `autograde` program built from the bundle's lab; neither holds the
-//! solution.
+//! `autograder.py`, the lab it grades with and the list of the lab's
+//! files) and PrairieLearn (an external grader's entrypoint, the lab and
+//! the fixtures). Both run the `autograde` program built from the bundle's
+//! lab, outside any folder of the student's; neither holds the solution.
 
 use std::path::Path;
 
@@ -40,16 +40,64 @@ fn pin_toolchain(root: &Path, lab: &Path) -> Result<String, String> {
 
 /// Classroom 50's per-assignment autograder folder (its files go to
 /// `CLASSROOM/autograders/ASSIGNMENT/` in the config repository): the
-/// script and `lab/`, with the visible cases only. Classroom 50 publishes
-/// an autograder's files on GitHub Pages, so the hidden cases stay out.
+/// script, `lab/` with the visible cases only, and `lab.sha256`, the lab's
+/// files with their SHA-256: the script copies exactly those out of the
+/// student's reach before building anything, so a file planted beside them
+/// (the bundle unpacked inside a checkout) is never read. Classroom 50
+/// publishes an autograder's files on GitHub Pages, so the hidden cases
+/// stay out. Returns the toolchain version the lab is pinned to.
 pub fn classroom50(root: &Path, dest: &Path) -> Result<String, String> {
     let lab = dest.join("lab");
     handout::copy_lab(root, &lab, Purpose::Grading)?;
     let version = pin_toolchain(root, &lab)?;
     let hidden = lab.join("fixtures/hidden");
     std::fs::remove_dir_all(&hidden).map_err(|e| format!("{}: {e}", hidden.display()))?;
+    let mut files = Vec::new();
+    list_files(&lab, "", &mut files)?;
+    let mut manifest = String::new();
+    for rel in files {
+        let path = lab.join(&rel);
+        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        manifest.push_str(&format!("{}  {rel}\n", sha256::sha256_hex(&bytes)));
+    }
+    let list = dest.join("lab.sha256");
+    std::fs::write(&list, manifest).map_err(|e| format!("{}: {e}", list.display()))?;
     write_executable(&dest.join("autograder.py"), AUTOGRADER_PY)?;
     Ok(version)
+}
+
+/// Every file under `dir/rel`, `/`-separated and sorted; a link or a name
+/// that is not UTF-8 is refused (the lab has neither).
+fn list_files(dir: &Path, rel: &str, out: &mut Vec<String>) -> Result<(), String> {
+    let here = dir.join(rel);
+    let mut entries: Vec<_> = std::fs::read_dir(&here)
+        .map_err(|e| format!("{}: {e}", here.display()))?
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{}: {e}", here.display()))?;
+    entries.sort_by_key(|e| e.file_name());
+    for entry in entries {
+        let name = entry.file_name();
+        let name = name
+            .to_str()
+            .ok_or(format!("{}: a name that is not UTF-8", here.display()))?;
+        let child = if rel.is_empty() {
+            name.to_string()
+        } else {
+            format!("{rel}/{name}")
+        };
+        let kind = entry.file_type().map_err(|e| e.to_string())?;
+        if kind.is_dir() {
+            list_files(dir, &child, out)?;
+        } else if kind.is_file() {
+            out.push(child);
+        } else {
+            return Err(format!(
+                "{}: not a file or a folder",
+                dir.join(child).display()
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// PrairieLearn's `serverFilesCourse/meshlab/`: `run.sh` (the question's

@@ -519,12 +519,13 @@ fn the_grader_s_priority_and_limits_are_out_of_reach() {
     assert!(g.denied("change the grader's limits"), "{}", g.context());
 }
 
-/// Class grading of one submission, as the TA runs it. One at a time: the
-/// class builds share one target folder, and each removes the previous
-/// submission's compiled crate from it.
+/// Class grading's turn: the class builds share one target folder, and
+/// each removes the previous submission's compiled crate from it.
+static CLASS_TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Class grading of one submission, as the TA runs it, one at a time.
 fn grade_class(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
-    static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let _turn = CLASS_TURN.lock().unwrap_or_else(|e| e.into_inner());
     let dir = std::env::temp_dir().join(format!("attack-class-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("submissions")).unwrap();
@@ -1785,4 +1786,301 @@ fn no_file_is_emptied_moved_or_made_even_without_landlock() {
         }
     }
     let _ = std::fs::remove_dir_all(dir);
+}
+
+// ---------------------------------------------------------------------
+// The TA's tools: `class --before` on the students' repositories.
+// ---------------------------------------------------------------------
+
+/// git in a student's repository as its student runs it, at `date`.
+fn student_git(repo: &Path, date: &str, args: &[&str]) -> String {
+    let out = Command::new("git")
+        .args(args)
+        .current_dir(repo)
+        .env("GIT_CONFIG_NOSYSTEM", "1")
+        .env("GIT_CONFIG_GLOBAL", "/dev/null")
+        .env("GIT_AUTHOR_NAME", "s")
+        .env("GIT_AUTHOR_EMAIL", "s@example.org")
+        .env("GIT_COMMITTER_NAME", "s")
+        .env("GIT_COMMITTER_EMAIL", "s@example.org")
+        .env("GIT_AUTHOR_DATE", date)
+        .env("GIT_COMMITTER_DATE", date)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("git runs");
+    assert!(out.status.success(), "git {args:?}: {out:?}");
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
+}
+
+/// Commits `lib_rs` as the student's file at `date`; returns the commit.
+fn commit_lib_rs(repo: &Path, lib_rs: &str, date: &str) -> String {
+    let lib = repo.join("crates/meshedit/src/lib.rs");
+    std::fs::create_dir_all(lib.parent().unwrap()).unwrap();
+    std::fs::write(&lib, lib_rs).unwrap();
+    student_git(repo, date, &["add", "-A"]);
+    student_git(repo, date, &["commit", "-q", "-m", "work"]);
+    student_git(repo, date, &["rev-parse", "HEAD"])
+}
+
+/// A program that leaves `marks/ran-NAME` when anything runs it.
+fn plant(marks: &Path, name: &str) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::create_dir_all(marks).unwrap();
+    let program = marks.join(format!("prog-{name}"));
+    std::fs::write(
+        &program,
+        format!(
+            "#!/bin/sh\ntouch {}\ncat >/dev/null 2>&1\nexit 0\n",
+            marks.join(format!("ran-{name}")).display()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&program, std::fs::Permissions::from_mode(0o755)).unwrap();
+    program.display().to_string()
+}
+
+fn marks_left(marks: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(marks)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().to_string_lossy().into_owned();
+            name.strip_prefix("ran-").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+/// A class of three repositories, graded with `--before` and a push log
+/// as the TA runs it: mallory's plants a program for every setting that
+/// makes git start one (its last commit signed, so that showing it runs
+/// `gpg.program`); eve and frank each pushed the stubs on time, then
+/// committed the model solution after the deadline with its date set
+/// before it and pushed it late. The push log names mallory's and eve's
+/// pushes, not frank's. Nothing of mallory's runs and she gets every point;
+/// eve is graded on what she pushed by the deadline (the stubs), not on the
+/// backdated commit; frank's backdated commit is graded, and his row, the
+/// run and commits.csv say it was dated by his own clock.
+#[test]
+fn a_class_of_hostile_repositories_runs_nothing_and_is_dated_by_the_pushes() {
+    let _turn = CLASS_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = scratch("class-repositories");
+    let subs = dir.join("submissions");
+    let marks = dir.join("marks");
+    let solution = read(&lab_root().join("reference/src/solution.rs"));
+    let stubs = read(&lab_root().join("crates/meshedit/src/lib.rs"));
+
+    let mallory = subs.join("mallory");
+    std::fs::create_dir_all(&mallory).unwrap();
+    student_git(
+        &mallory,
+        "2026-11-20T10:00:00Z",
+        &["init", "-q", "-b", "main"],
+    );
+    let work = commit_lib_rs(&mallory, &solution, "2026-11-30T10:00:00Z");
+    let tree = student_git(
+        &mallory,
+        "2026-11-30T10:00:00Z",
+        &["rev-parse", "HEAD^{tree}"],
+    );
+    let raw = dir.join("signed-commit");
+    std::fs::write(
+        &raw,
+        format!(
+            "tree {tree}\nparent {work}\nauthor s <s@example.org> 1764500400 +0000\n\
+             committer s <s@example.org> 1764500400 +0000\n\
+             gpgsig -----BEGIN PGP SIGNATURE-----\n \n iQEzBAABCAAdFiEE\n \
+             -----END PGP SIGNATURE-----\n\nsigned\n"
+        ),
+    )
+    .unwrap();
+    let signed = student_git(
+        &mallory,
+        "2026-11-30T11:00:00Z",
+        &["hash-object", "-t", "commit", "-w", raw.to_str().unwrap()],
+    );
+    student_git(
+        &mallory,
+        "2026-11-30T11:00:00Z",
+        &["update-ref", "HEAD", &signed],
+    );
+    std::fs::write(
+        dir.join("included"),
+        format!("[gpg]\n\tprogram = {}\n", plant(&marks, "included-gpg")),
+    )
+    .unwrap();
+    std::fs::create_dir_all(dir.join("hooks")).unwrap();
+    std::fs::copy(
+        plant(&marks, "hook"),
+        dir.join("hooks/reference-transaction"),
+    )
+    .unwrap();
+    for (key, value) in [
+        ("log.showSignature", "true".to_string()),
+        ("gpg.program", plant(&marks, "gpg")),
+        ("gpg.ssh.program", plant(&marks, "gpg-ssh")),
+        ("core.pager", plant(&marks, "pager")),
+        ("pager.log", plant(&marks, "pager-log")),
+        ("core.fsmonitor", plant(&marks, "fsmonitor")),
+        ("core.hooksPath", dir.join("hooks").display().to_string()),
+        ("core.sshCommand", plant(&marks, "ssh")),
+        ("core.askPass", plant(&marks, "askpass")),
+        ("filter.evil.clean", plant(&marks, "clean")),
+        ("filter.evil.smudge", plant(&marks, "smudge")),
+        ("filter.evil.process", plant(&marks, "filter-process")),
+        ("diff.evil.textconv", plant(&marks, "textconv")),
+        ("merge.evil.driver", plant(&marks, "merge")),
+        ("include.path", dir.join("included").display().to_string()),
+    ] {
+        student_git(&mallory, "2026-11-30T11:00:00Z", &["config", key, &value]);
+    }
+    std::fs::write(
+        mallory.join(".git/info/attributes"),
+        "* filter=evil diff=evil merge=evil\n",
+    )
+    .unwrap();
+    // Live: the student's own git runs them.
+    let _ = Command::new("git")
+        .args(["show", "-s", "HEAD"])
+        .current_dir(&mallory)
+        .env("GIT_CONFIG_NOSYSTEM", "1")
+        .env("GIT_CONFIG_GLOBAL", "/dev/null")
+        .output()
+        .unwrap();
+    assert!(
+        marks_left(&marks).iter().any(|m| m.ends_with("gpg")),
+        "showing the signed commit runs the planted gpg: {:?}",
+        marks_left(&marks)
+    );
+    for m in marks_left(&marks) {
+        std::fs::remove_file(marks.join(format!("ran-{m}"))).unwrap();
+    }
+
+    let mut pushes = String::from("student,commit,pushed_at\n");
+    pushes.push_str(&format!("mallory,{signed},2026-11-30T11:02:00Z\n"));
+    let mut on_time = std::collections::HashMap::new();
+    for name in ["eve", "frank"] {
+        let repo = subs.join(name);
+        std::fs::create_dir_all(&repo).unwrap();
+        student_git(&repo, "2026-11-20T10:00:00Z", &["init", "-q", "-b", "main"]);
+        let early = commit_lib_rs(&repo, &stubs, "2026-11-30T10:00:00Z");
+        // Made on 2026-12-03, dated 2026-11-30.
+        let late = commit_lib_rs(&repo, &solution, "2026-11-30T12:00:00Z");
+        if name == "eve" {
+            pushes.push_str(&format!("eve,{early},2026-11-30T10:01:00Z\n"));
+            pushes.push_str(&format!("eve,{late},2026-12-03T08:00:00Z\n"));
+        }
+        on_time.insert(name, (early, late));
+    }
+    std::fs::write(dir.join("pushes.csv"), &pushes).unwrap();
+
+    let out = dir.join("out");
+    let r = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .arg("class")
+        .arg(&subs)
+        .arg("--out")
+        .arg(&out)
+        .args(["--before", "2026-12-01 23:59 +0100", "--pushes"])
+        .arg(dir.join("pushes.csv"))
+        .args([
+            "--timeout",
+            "2",
+            "--budget",
+            "120",
+            "--no-fresh",
+            "-q",
+            "--build-dir",
+        ])
+        .arg(class_build_dir())
+        .env("CARGO", env!("CARGO"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&r.stdout);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    let context = format!("{stdout}\n--- stderr ---\n{stderr}");
+    assert!(r.status.success(), "{context}");
+    assert_eq!(marks_left(&marks), Vec::<String>::new(), "{context}");
+
+    let summary = json(&out.join("summary.json"));
+    let row = |name: &str| {
+        summary
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["name"] == name)
+            .unwrap_or_else(|| panic!("{name}: {summary}"))
+            .clone()
+    };
+    let (mallory, eve, frank) = (row("mallory"), row("eve"), row("frank"));
+    assert_eq!(mallory["score"], mallory["max"], "{mallory}\n{context}");
+    assert_eq!(mallory["handed_in"]["commit"], signed.as_str());
+    assert_eq!(mallory["handed_in"]["clock"], "push log");
+    assert_eq!(
+        eve["score"], 0.0,
+        "the backdated solution is not graded: {eve}"
+    );
+    assert_eq!(eve["handed_in"]["commit"], on_time["eve"].0.as_str());
+    assert_eq!(eve["handed_in"]["at"], "2026-11-30T10:01:00Z");
+    assert!(eve["handed_in"]["warning"].is_null(), "{eve}");
+    assert_eq!(
+        frank["score"], frank["max"],
+        "commit dates alone are fooled: {frank}"
+    );
+    assert_eq!(frank["handed_in"]["commit"], on_time["frank"].1.as_str());
+    assert_eq!(
+        frank["handed_in"]["clock"],
+        "commit date (the student's own)"
+    );
+    assert!(
+        frank["handed_in"]["warning"]
+            .as_str()
+            .is_some_and(|w| w.contains("which the student sets")),
+        "{frank}"
+    );
+    assert!(
+        stderr.contains(
+            "warning: 1 of 3 repositories are judged by commit dates, which the \
+                         student sets"
+        ),
+        "{context}"
+    );
+    let frank_line = stdout
+        .lines()
+        .find(|l| l.starts_with("frank "))
+        .unwrap_or("");
+    assert!(
+        frank_line.contains("[dated by its commit: the student's own clock]"),
+        "{context}"
+    );
+    assert!(
+        !stdout
+            .lines()
+            .any(|l| l.starts_with("eve ") && l.contains("[dated")),
+        "{context}"
+    );
+    let csv = read(&out.join("summary.csv"));
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .ends_with(",first_failure,graded_as,commit,handed_in_at,clock"),
+        "{csv}"
+    );
+    assert!(
+        csv.lines().any(|l| l.starts_with("frank,")
+            && l.ends_with(&format!(
+                ",{},2026-11-30T12:00:00Z,commit date (the student's own)",
+                on_time["frank"].1
+            ))),
+        "{csv}"
+    );
+    let commits = read(&out.join("commits.csv"));
+    assert!(
+        commits.contains(&format!(
+            "\neve,{},2026-11-30T10:01:00Z,push log,2026-11-30T10:00:00Z\n",
+            on_time["eve"].0
+        )),
+        "{commits}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

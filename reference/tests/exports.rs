@@ -532,6 +532,46 @@ fn workflow_steps(path: &Path) -> Vec<(String, String)> {
 /// [`class_build_dir`], as platforms.rs does), so that the dependencies,
 /// whose fingerprints hold the vendored sources' path, compile once per
 /// checkout for all of them.
+/// A `.cargo/config.toml` whose program-running keys name programs that
+/// leave `marks/ran-NAME` (whoever runs them: the folder is everyone's).
+fn cargo_config_running(marks: &Path) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::create_dir_all(marks).unwrap();
+    std::fs::set_permissions(marks, std::fs::Permissions::from_mode(0o777)).unwrap();
+    let plant = |name: &str| {
+        let program = marks.join(format!("prog-{name}"));
+        let text = format!(
+            "#!/bin/sh\ntouch {}\nexit 1\n",
+            marks.join(format!("ran-{name}")).display()
+        );
+        std::fs::write(&program, text).unwrap();
+        std::fs::set_permissions(&program, std::fs::Permissions::from_mode(0o755)).unwrap();
+        serde_json::to_string(&program.to_string_lossy()).unwrap()
+    };
+    format!(
+        "[build]\nrustc-wrapper = {}\nrustc-workspace-wrapper = {}\nrustc = {}\n\
+         [target.'cfg(all())']\nrunner = {}\n[env]\nRUSTC_WRAPPER = {}\n",
+        plant("rustc-wrapper"),
+        plant("workspace-wrapper"),
+        plant("rustc"),
+        plant("runner"),
+        plant("env-wrapper"),
+    )
+}
+
+/// The planted programs that ran.
+fn ran_from(marks: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(marks)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().to_string_lossy().into_owned();
+            name.strip_prefix("ran-").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    names
+}
+
 fn gradescope_places() -> (PathBuf, PathBuf) {
     let tmp = class_build_dir().parent().unwrap().to_path_buf();
     (tmp.join("autograder"), class_build_dir().join("target"))
@@ -544,6 +584,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     // script copied next to it.
     let (ag, build_target) = gradescope_places();
     let _ = std::fs::remove_dir_all(&ag);
+    let marks = scratch("gradescope-marks");
     let bundle = ag.join("source");
     // Four sets of fresh cases keep the bundle small here (16 by default).
     let r = run(&["gradescope", bundle.to_str().unwrap(), "--fresh-sets", "4"]);
@@ -782,9 +823,13 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         ("crates/meshedit/src/lib.rs", solution()),
         ("grader/src/lib.rs", "this is not Rust".to_string()),
         ("Cargo.toml", "[workspace]".to_string()),
+        // The student's cargo config, naming programs for cargo to run:
+        // no build reads the upload's configuration.
+        (".cargo/config.toml", cargo_config_running(&marks)),
     ];
     let (ws, _, log) = grade(&workspace, None);
     assert_eq!(ws["score"].as_f64(), Some(max), "{log}\n{ws}");
+    assert_eq!(ran_from(&marks), Vec::<String>::new(), "{log}");
 
     // The same inside one folder, as a zip of the folder unpacks.
     let nested: Vec<(String, String)> = workspace
@@ -797,6 +842,7 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
         .collect();
     let (nest, _, nest_log) = grade(&nested, None);
     assert_eq!(nest["score"].as_f64(), Some(max), "{nest}");
+    assert_eq!(ran_from(&marks), Vec::<String>::new(), "{nest_log}");
     // The same file, uploaded again in another layout: the same fresh set.
     assert_eq!(set_of(&nest_log), good_set, "{nest_log}");
 

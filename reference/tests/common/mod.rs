@@ -177,6 +177,7 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         landlock: true,
         only: Vec::new(),
         before: None,
+        pushes: None,
         jobs: 1,
         regrade: false,
         roster: None,
