@@ -151,22 +151,28 @@ impl Unfit {
     }
 }
 
+/// The bytes of a student's source file ([`read_capped`] at
+/// [`MAX_SOURCE_BYTES`]).
+pub fn read_source(path: &Path) -> Result<Vec<u8>, Unfit> {
+    read_capped(path, MAX_SOURCE_BYTES)
+}
+
 /// The bytes of a student's file, if it is a regular file of at most
-/// [`MAX_SOURCE_BYTES`]. Anything else is never opened (opening a device
+/// `cap` bytes. Anything else is never opened (opening a device
 /// runs its driver's code; a named pipe blocks until someone writes), and
 /// the file opened is checked again on its descriptor (`fstat`): opened
 /// without following a link (`O_NOFOLLOW`) and without blocking
 /// (`O_NONBLOCK`), never as a terminal (`O_NOCTTY`), the same file
 /// (device and inode) as the one looked at, and read to the cap and one
 /// byte more, however large it has grown since.
-pub fn read_source(path: &Path) -> Result<Vec<u8>, Unfit> {
+pub fn read_capped(path: &Path, cap: u64) -> Result<Vec<u8>, Unfit> {
     use std::os::unix::fs::{MetadataExt, OpenOptionsExt};
     let io = |e: std::io::Error| Unfit::Unreadable(e.to_string());
     let seen = std::fs::symlink_metadata(path).map_err(io)?;
     if let Some(kind) = Kind::of(seen.file_type()) {
         return Err(Unfit::NotRegular(kind));
     }
-    if seen.len() > MAX_SOURCE_BYTES {
+    if seen.len() > cap {
         return Err(Unfit::TooLarge(seen.len()));
     }
     let file = std::fs::OpenOptions::new()
@@ -187,15 +193,12 @@ pub fn read_source(path: &Path) -> Result<Vec<u8>, Unfit> {
             "it was replaced while it was being read".into(),
         ));
     }
-    if opened.len() > MAX_SOURCE_BYTES {
+    if opened.len() > cap {
         return Err(Unfit::TooLarge(opened.len()));
     }
     let mut bytes = Vec::with_capacity(opened.len() as usize);
-    (&file)
-        .take(MAX_SOURCE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() as u64 > MAX_SOURCE_BYTES {
+    (&file).take(cap + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > cap {
         // It grew while it was read.
         let now = file.metadata().map_or(bytes.len() as u64, |m| m.len());
         return Err(Unfit::TooLarge(now));

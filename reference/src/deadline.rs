@@ -28,7 +28,6 @@
 //! from elsewhere (alternates) or whose object folder is a link is refused,
 //! and symbolic links in the tree are skipped like links in any upload.
 
-use std::io::Read as _;
 use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -419,29 +418,20 @@ fn read_classroom50(path: &Path, text: &str) -> Result<Records, String> {
     })
 }
 
-/// A student's file of at most `cap` bytes: a regular file, never through
-/// a link, never blocking (a FIFO planted as `HEAD` is refused, not read).
+/// A student's file of at most `cap` bytes, read as every student file is
+/// (`autograde::upload::read_capped`: a regular file, never through a
+/// link, never blocking, so a FIFO planted as `HEAD` is refused, not read).
 fn read_small(path: &Path, cap: u64) -> Result<Vec<u8>, String> {
-    use std::os::unix::fs::OpenOptionsExt;
-    let file = std::fs::OpenOptions::new()
-        .read(true)
-        .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
-        .open(path)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    let meta = file
-        .metadata()
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    if !meta.is_file() {
-        return Err(format!("{} is not a regular file", path.display()));
-    }
-    if meta.len() > cap {
-        return Err(format!("{} is over {cap} bytes", path.display()));
-    }
-    let mut bytes = Vec::new();
-    file.take(cap + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(bytes)
+    use autograde::upload::Unfit;
+    autograde::upload::read_capped(path, cap).map_err(|why| match why {
+        Unfit::NotRegular(kind) => format!(
+            "{} is not a regular file ({})",
+            path.display(),
+            kind.words()
+        ),
+        Unfit::TooLarge(bytes) => format!("{} is over {cap} bytes ({bytes})", path.display()),
+        Unfit::Unreadable(e) => format!("{}: {e}", path.display()),
+    })
 }
 
 /// `git/rel`, when every folder on the way is a folder (not a link).
