@@ -459,6 +459,8 @@ struct Repository {
     own: tempfile::TempDir,
     /// The student's object database.
     objects: PathBuf,
+    /// How long one git command may take ([`GIT_LIMIT`]).
+    limit: std::time::Duration,
     /// The commit `HEAD` names, and its branch (`main`) if it names one.
     head: String,
     branch: Option<String>,
@@ -468,6 +470,13 @@ const REF_FILE_CAP: u64 = 4096;
 const PACKED_REFS_CAP: u64 = 64 << 20;
 /// A Rust file of the lab is a few hundred kilobytes at most.
 const BLOB_CAP: u64 = 16 << 20;
+
+/// How long one git command may take: reading a commit, a tree or a blob
+/// takes milliseconds.
+const GIT_LIMIT: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Most of what one git command's output is read (a tree's listing).
+const GIT_OUTPUT_CAP: u64 = 64 << 20;
 
 impl Repository {
     fn open(repo: &Path) -> Result<Repository, String> {
@@ -531,6 +540,7 @@ impl Repository {
             shown,
             own,
             objects,
+            limit: GIT_LIMIT,
             head,
             branch,
         })
@@ -574,29 +584,69 @@ impl Repository {
         cmd
     }
 
-    fn output(&self, args: &[&str], what: &str) -> Result<Vec<u8>, String> {
-        let out = self
-            .git()
-            .args(args)
-            .output()
-            .map_err(|e| format!("cannot run git ({what}): {e}"))?;
-        if !out.status.success() {
-            let err = String::from_utf8_lossy(&out.stderr);
-            return Err(format!(
-                "{}: git {what} failed: {}",
+    /// Runs git with `args`, what it prints into the file `stdout`, within
+    /// [`GIT_LIMIT`] (a named pipe planted among the objects would block
+    /// it for ever); `what` names the command in an error.
+    fn run_into(&self, args: &[&str], what: &str, stdout: &Path) -> Result<(), String> {
+        let mut cmd = self.git();
+        cmd.args(args);
+        let stderr = self.own.path().join("git-stderr");
+        let ended = autograde::process::run_limited(cmd, stdout, &stderr, self.limit)?;
+        match ended {
+            Some(0) => Ok(()),
+            Some(_) => {
+                let err = std::fs::read(&stderr).unwrap_or_default();
+                let err = String::from_utf8_lossy(&err[..err.len().min(4096)]).into_owned();
+                Err(format!(
+                    "{}: git {what} failed: {}",
+                    self.shown.display(),
+                    grader::report::quoted::one_line(err.trim())
+                ))
+            }
+            None => Err(format!(
+                "{}: git {what} did not finish within {} s: is one of its objects a named pipe \
+                 or a device?",
                 self.shown.display(),
-                grader::report::quoted::one_line(err.trim())
-            ));
+                self.limit.as_secs_f64()
+            )),
         }
-        Ok(out.stdout)
+    }
+
+    /// What git prints for `args` (at most [`GIT_OUTPUT_CAP`] of it).
+    fn output(&self, args: &[&str], what: &str) -> Result<Vec<u8>, String> {
+        use std::io::Read as _;
+        let path = self.own.path().join("git-stdout");
+        self.run_into(args, what, &path)?;
+        let mut bytes = Vec::new();
+        std::fs::File::open(&path)
+            .and_then(|f| f.take(GIT_OUTPUT_CAP).read_to_end(&mut bytes))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(bytes)
     }
 
     /// Whether `name` is a commit of the student's objects.
     fn has_commit(&self, name: &str) -> bool {
-        self.git()
-            .args(["cat-file", "-t", name])
-            .output()
-            .is_ok_and(|o| o.status.success() && o.stdout == b"commit\n")
+        self.output(&["cat-file", "-t", name], "cat-file")
+            .is_ok_and(|out| out == b"commit\n")
+    }
+
+    /// Writes the blob `hash` into `target`, cut to one byte past the cap
+    /// on a student's file ([`autograde::upload::MAX_SOURCE_BYTES`]): a
+    /// larger blob (at most [`BLOB_CAP`], checked from the tree first) is
+    /// then refused by its size when it is read, as any file is.
+    fn copy_blob(&self, hash: &str, target: &Path) -> Result<(), String> {
+        self.run_into(&["cat-file", "blob", hash], "cat-file", target)?;
+        let cap = autograde::upload::MAX_SOURCE_BYTES + 1;
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(target)
+            .map_err(|e| format!("{}: {e}", target.display()))?;
+        let len = file.metadata().map_or(0, |m| m.len());
+        if len > cap {
+            file.set_len(cap)
+                .map_err(|e| format!("{}: {e}", target.display()))?;
+        }
+        Ok(())
     }
 
     /// The committer date of `commit`, UTC ISO 8601, read from the object.
@@ -663,39 +713,6 @@ fn packed_ref(git: &Path, name: &str) -> Result<Option<String>, String> {
     }))
 }
 
-/// Writes what `cat` (a `git cat-file blob`) prints into `target`, to one
-/// byte past the cap on a student's file
-/// ([`autograde::upload::MAX_SOURCE_BYTES`]): a larger blob is then
-/// refused by its size when it is read, as any file is, and costs neither
-/// memory nor disk on the way.
-fn copy_blob(mut cat: Command, target: &Path) -> Result<(), String> {
-    use std::io::Read as _;
-    let cap = autograde::upload::MAX_SOURCE_BYTES + 1;
-    let mut child = cat
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| format!("cannot run git (cat-file): {e}"))?;
-    let mut file =
-        std::fs::File::create(target).map_err(|e| format!("{}: {e}", target.display()))?;
-    let mut stdout = child.stdout.take().expect("piped").take(cap);
-    let copied = std::io::copy(&mut stdout, &mut file);
-    drop(stdout);
-    let whole = copied.as_ref().is_ok_and(|&n| n < cap);
-    if !whole {
-        let _ = child.kill();
-    }
-    let out = child
-        .wait_with_output()
-        .map_err(|e| format!("cannot run git (cat-file): {e}"))?;
-    let copied = copied.map_err(|e| format!("{}: {e}", target.display()))?;
-    if copied < cap && !out.status.success() {
-        let err = String::from_utf8_lossy(&out.stderr);
-        return Err(format!("git cat-file failed: {}", err.trim()));
-    }
-    Ok(())
-}
-
 /// A tree path that stays inside the folder it is written to.
 fn safe_relative(path: &str) -> Option<PathBuf> {
     let p = Path::new(path);
@@ -753,7 +770,16 @@ pub fn snapshot(
     records: Option<(&[&Record], Clock)>,
     into: &Path,
 ) -> Result<Snapshot, String> {
-    let r = Repository::open(repo)?;
+    snapshot_with(Repository::open(repo)?, repo, deadline, records, into)
+}
+
+fn snapshot_with(
+    r: Repository,
+    repo: &Path,
+    deadline: i64,
+    records: Option<(&[&Record], Clock)>,
+    into: &Path,
+) -> Result<Snapshot, String> {
     let (commit, date, clock) = match records {
         Some((records, clock)) => {
             let pushed = last_on_time(records, deadline, r.branch.as_deref(), clock)
@@ -835,9 +861,7 @@ pub fn snapshot(
         if let Some(parent) = target.parent() {
             std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
         }
-        let mut cat = r.git();
-        cat.args(["cat-file", "blob", &hash]);
-        copy_blob(cat, &target)?;
+        r.copy_blob(&hash, &target)?;
         files += 1;
     }
     Ok(Snapshot {
@@ -1334,6 +1358,38 @@ mod tests {
             why.starts_with("crates/meshedit/src/lib.rs is larger than 1 MiB"),
             "{why}"
         );
+        let _ = std::fs::remove_dir_all(&root);
+    }
+
+    /// A named pipe planted among the objects (as the blob of lib.rs)
+    /// would block git for ever: the command is stopped at its limit and
+    /// the repository refused with a message, and the run goes on.
+    #[test]
+    fn a_named_pipe_among_the_objects_is_stopped_at_the_limit() {
+        need_git();
+        let root = scratch("fifo-object");
+        let repo = root.join("oscar");
+        std::fs::create_dir_all(&repo).unwrap();
+        student_git(&repo, "2026-11-01T10:00:00Z", &["init", "-q"]);
+        commit_lib(&repo, "// blocked\n", "2026-11-30T10:00:00Z");
+        let blob = student_git(
+            &repo,
+            "2026-11-30T10:00:00Z",
+            &["rev-parse", "HEAD:crates/meshedit/src/lib.rs"],
+        );
+        let blob = blob.trim();
+        let loose = repo.join(".git/objects").join(&blob[..2]).join(&blob[2..]);
+        std::fs::remove_file(&loose).unwrap();
+        let c = std::ffi::CString::new(loose.as_os_str().as_encoded_bytes()).unwrap();
+        // SAFETY: makes a FIFO at a path we own.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+        let mut r = Repository::open(&repo).unwrap();
+        r.limit = std::time::Duration::from_secs(2);
+        let start = std::time::Instant::now();
+        let into = root.join("graded");
+        let e = snapshot_with(r, &repo, at("2026-12-01T00:00:00Z"), None, &into).unwrap_err();
+        assert!(start.elapsed() < std::time::Duration::from_secs(20), "{e}");
+        assert!(e.contains("did not finish within 2 s"), "{e}");
         let _ = std::fs::remove_dir_all(&root);
     }
 
