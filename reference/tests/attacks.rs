@@ -705,6 +705,63 @@ fn student_code_cannot_pass_for_a_sandbox_failure() {
     );
 }
 
+/// A command that runs `exe` with umask 077, as a root whose shell sets it
+/// (so every file and folder made without an explicit mode is private).
+fn with_umask_077(exe: &Path) -> Command {
+    use std::os::unix::process::CommandExt;
+    let mut cmd = Command::new(exe);
+    // SAFETY: umask is async-signal-safe and touches no memory.
+    unsafe {
+        cmd.pre_exec(|| {
+            libc::umask(0o077);
+            Ok(())
+        });
+    }
+    cmd
+}
+
+#[test]
+fn the_model_solution_passes_as_root_under_umask_077() {
+    use std::os::unix::fs::PermissionsExt;
+    if !is_root() {
+        common::skip("umask 077 hides the child's folders from nobody only for a root grader");
+        return;
+    }
+    // The folders of the child's empty root are made by the launcher as
+    // root, and the child runs as nobody: with umask 077 they were private
+    // and the child could not start ("does your code call
+    // std::process::exit?" on every case, for the model solution too).
+    let exe = Path::new(env!("CARGO_BIN_EXE_reference"));
+    let g = grade_with(&mut with_umask_077(exe), "reference", &[]);
+    assert_eq!(g.code, 0, "{}", g.context());
+    assert!(
+        g.stdout.contains("all tests passed, congratulations!"),
+        "{}",
+        g.context()
+    );
+    assert!(!g.stdout.contains("std::process::exit"), "{}", g.context());
+    // A child program built under umask 077 (mode 0700) is copied for
+    // nobody, the copy's folder and mode set explicitly.
+    let dir = scratch_file("umask-exe");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("tmp")).unwrap();
+    let private = dir.join("reference");
+    std::fs::copy(exe, &private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let copied = grade_with(
+        with_umask_077(&private).env("TMPDIR", dir.join("tmp")),
+        "reference",
+        &["--stage", "split"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(copied.code, 0, "{}", copied.context());
+    assert!(
+        copied.stdout.contains("user nobody"),
+        "{}",
+        copied.context()
+    );
+}
+
 /// Whether a line of a report is student text, shown under `| `.
 fn quoted(line: &str) -> bool {
     line.trim_start().starts_with("| ")

@@ -692,6 +692,27 @@ fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
     )
 }
 
+/// Makes `dir` and every missing folder between `root` and it, each of
+/// mode 0755 whatever the umask (a root grader run with umask 077 would
+/// otherwise make folders `nobody` cannot enter, and the child's loader
+/// would be out of its reach).
+#[cfg(target_os = "linux")]
+pub(crate) fn open_folders(root: &Path, dir: &Path) -> Result<(), String> {
+    use std::os::unix::fs::PermissionsExt;
+    let rel = dir.strip_prefix(root).unwrap_or(dir);
+    let mut at = root.to_path_buf();
+    for part in rel.components() {
+        at.push(part);
+        match std::fs::create_dir(&at) {
+            Ok(()) => std::fs::set_permissions(&at, std::fs::Permissions::from_mode(0o755))
+                .map_err(|e| format!("chmod {}: {e}", at.display()))?,
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(format!("mkdir {}: {e}", at.display())),
+        }
+    }
+    Ok(())
+}
+
 /// Fills the fresh root mounted at `new`: the system's library folders
 /// (bound read-only, or the same links where the system has links), the
 /// child program at [`ROOTED_PROGRAM`], and a `/proc` of the case's own
@@ -707,13 +728,13 @@ fn furnish_root(new: &Path, program_tree: &std::os::fd::OwnedFd) -> Result<(), S
         };
         let inside = new.join(host.strip_prefix("/").unwrap_or(host));
         if let Some(parent) = inside.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| fail("mkdir", e))?;
+            open_folders(new, parent)?;
         }
         if meta.file_type().is_symlink() {
             let to = std::fs::read_link(host).map_err(|e| fail("readlink", e))?;
             std::os::unix::fs::symlink(to, &inside).map_err(|e| fail("symlink", e))?;
         } else if meta.is_dir() {
-            std::fs::create_dir_all(&inside).map_err(|e| fail("mkdir", e))?;
+            open_folders(new, &inside)?;
             bind_read_only(host, &inside)?;
         } else {
             std::fs::File::create(&inside).map_err(|e| fail("create", e))?;
@@ -923,6 +944,10 @@ fn drop_capabilities() -> Result<(), String> {
 fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     use std::io::Write;
     use std::os::fd::AsRawFd;
+    // What this launcher makes (the empty root's folders) gets the modes it
+    // asks for, whatever umask the grader was started with.
+    // SAFETY: a plain system call.
+    unsafe { libc::umask(0o022) };
     let early = || -> Result<(std::fs::File, bool), String> {
         move_request()?;
         own_session()?;
