@@ -688,21 +688,23 @@ fn a_root_grader_never_runs_student_code_as_root() {
 
 #[test]
 fn student_code_cannot_pass_for_a_sandbox_failure() {
-    let g = grade(
-        "fake-sandbox-failure",
-        &["--case", "cube-subdivide-1", "--timeout", "5"],
-    );
-    assert!(
-        !g.stderr.contains("the grading sandbox could not be set up"),
-        "{}",
-        g.context()
-    );
-    assert_eq!(g.code, 1, "{}", g.context());
-    assert!(
-        g.warned("loop_subdivide ended the program (exit status 97) before returning"),
-        "{}",
-        g.context()
-    );
+    // The launcher's words, and its frame for a child program that could
+    // not start (sent after its report, as the real one is) with a nonce of
+    // the student's guessing: the student's exit either way.
+    for attack in ["fake-sandbox-failure", "fake-launch-failure"] {
+        let g = grade(attack, &["--case", "cube-subdivide-1", "--timeout", "5"]);
+        assert!(
+            !g.stderr.contains("the grading sandbox could not be set up"),
+            "{attack}: {}",
+            g.context()
+        );
+        assert_eq!(g.code, 1, "{attack}: {}", g.context());
+        assert!(
+            g.warned("loop_subdivide ended the program (exit status 97) before returning"),
+            "{attack}: {}",
+            g.context()
+        );
+    }
 }
 
 /// A command that runs `exe` with umask 077, as a root whose shell sets it
@@ -760,6 +762,75 @@ fn the_model_solution_passes_as_root_under_umask_077() {
         "{}",
         copied.context()
     );
+}
+
+#[test]
+fn a_child_program_that_cannot_start_is_the_machine_s_error_not_the_student_s() {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::CommandExt;
+    if !is_root() {
+        common::skip("a file system mounted noexec for the test needs root");
+        return;
+    }
+    // A root grader copies a child program nobody may run into the
+    // temporary folder; here that folder is mounted noexec (as /tmp often
+    // is), so the launcher's exec fails after it reported the protections.
+    // It says so with the grader's nonce: the grader stops, naming the
+    // cause, and no case is failed for it. (Without a PID namespace: in
+    // one, the empty root binds the program afresh, noexec left behind.)
+    let dir = scratch_file("noexec");
+    let _ = std::fs::remove_dir_all(&dir);
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let private = dir.join("reference");
+    std::fs::copy(env!("CARGO_BIN_EXE_reference"), &private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let target = std::ffi::CString::new(tmp.to_str().unwrap()).unwrap();
+    let mut cmd = Command::new(&private);
+    cmd.env("TMPDIR", &tmp);
+    // SAFETY: plain system calls on C strings made before the fork.
+    unsafe {
+        cmd.pre_exec(move || {
+            let fail = || Err(std::io::Error::last_os_error());
+            if libc::unshare(libc::CLONE_NEWNS) != 0 {
+                return fail();
+            }
+            let none = std::ptr::null();
+            if libc::mount(
+                none,
+                c"/".as_ptr(),
+                none,
+                libc::MS_REC | libc::MS_PRIVATE,
+                none.cast(),
+            ) != 0
+                || libc::mount(
+                    c"none".as_ptr(),
+                    target.as_ptr(),
+                    c"tmpfs".as_ptr(),
+                    libc::MS_NOEXEC,
+                    c"size=256m".as_ptr().cast(),
+                ) != 0
+            {
+                return fail();
+            }
+            Ok(())
+        });
+    }
+    let g = grade_with(
+        &mut cmd,
+        "reference",
+        &["--case", "cube-flip-1", "--without-pid-namespace"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(g.code, 2, "{}", g.context());
+    assert!(
+        g.stderr
+            .contains("the grading sandbox could not be set up: cannot start the child program")
+            && g.stderr.contains("noexec"),
+        "{}",
+        g.context()
+    );
+    assert!(!g.stdout.contains("std::process::exit"), "{}", g.context());
 }
 
 /// Whether a line of a report is student text, shown under `| `.

@@ -99,6 +99,12 @@ enum Event {
     Cpu(Duration),
     /// A call's whole result frame.
     Result(Vec<u8>),
+    /// The launcher could not start the child program (with the nonce it
+    /// was given, if the frame is its own).
+    LaunchFailed {
+        nonce: [u8; wire::NONCE_LEN],
+        why: String,
+    },
     /// A result frame announced this many bytes, more than allowed.
     TooLarge(usize),
     /// The channel held something that is not a frame.
@@ -331,6 +337,9 @@ fn watch_frames(
                             _ => match wire::decode_frames(&frame) {
                                 Ok(mut f) => match f.pop() {
                                     Some(Frame::CpuTime(t)) => Event::Cpu(t),
+                                    Some(Frame::LaunchFailed { nonce, why }) => {
+                                        Event::LaunchFailed { nonce, why }
+                                    }
                                     _ => Event::Garbled("an unexpected frame".into()),
                                 },
                                 Err(e) => Event::Garbled(e.to_string()),
@@ -525,6 +534,9 @@ struct Live {
     status: Option<ExitStatus>,
     /// Calls it has served.
     served: usize,
+    /// What the launcher must send with a failure of its own (see
+    /// [`wire::Frame::LaunchFailed`]).
+    nonce: [u8; wire::NONCE_LEN],
 }
 
 impl Live {
@@ -560,6 +572,9 @@ impl Live {
         } = started;
         let (tx, events) = mpsc::channel();
         let (requests, queued) = mpsc::channel::<Vec<u8>>();
+        // The launcher's nonce goes first, before any request.
+        let nonce = nonce();
+        let _ = requests.send(nonce.to_vec());
         thread::spawn(move || {
             // Fails harmlessly if the child never reads them.
             for request in queued {
@@ -585,6 +600,7 @@ impl Live {
             sandbox: None,
             status: None,
             served: 0,
+            nonce,
         }))
     }
 
@@ -697,6 +713,16 @@ impl<'a> Session<'a> {
                 Ok(Event::Started) => started = Some(Instant::now()),
                 Ok(Event::Cpu(t)) => cpu = Some(t),
                 Ok(Event::Result(bytes)) => result = Some(bytes),
+                Ok(Event::LaunchFailed { nonce, why }) if nonce == live.nonce => {
+                    // The launcher's own: the machine's failure, never the
+                    // student's.
+                    kill_group(live.pid);
+                    limit_hit = Some(CaseEnd::SandboxFailed { why });
+                }
+                Ok(Event::LaunchFailed { .. }) => {
+                    live.requests = None;
+                    garbled.get_or_insert("a forged launcher failure".into());
+                }
                 Ok(Event::TooLarge(n)) => {
                     kill_group(live.pid);
                     limit_hit = Some(CaseEnd::TooLarge { bytes: n });
@@ -781,6 +807,28 @@ impl Drop for Session<'_> {
     fn drop(&mut self) {
         self.restart();
     }
+}
+
+/// Random bytes no student code can hold: from the standard library's
+/// per-process random keys (seeded by the operating system), the time and
+/// a counter.
+fn nonce() -> [u8; wire::NONCE_LEN] {
+    use std::hash::{BuildHasher, Hasher};
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, Ordering::Relaxed);
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let mut out = [0u8; wire::NONCE_LEN];
+    for (i, chunk) in out.chunks_mut(8).enumerate() {
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_usize(n);
+        h.write_usize(i);
+        h.write_u128(stamp);
+        h.write_u32(std::process::id());
+        chunk.copy_from_slice(&h.finish().to_le_bytes()[..chunk.len()]);
+    }
+    out
 }
 
 /// Runs one request in a sandboxed child of its own (`record`: ask it to

@@ -940,6 +940,30 @@ fn drop_capabilities() -> Result<(), String> {
     Ok(())
 }
 
+/// Reads the grader's nonce, the first [`wire::NONCE_LEN`] bytes on
+/// standard input (before any request).
+///
+/// [`wire::NONCE_LEN`]: crate::isolate::wire::NONCE_LEN
+fn read_nonce() -> Result<[u8; crate::isolate::wire::NONCE_LEN], String> {
+    let mut nonce = [0u8; crate::isolate::wire::NONCE_LEN];
+    let mut got = 0;
+    while got < nonce.len() {
+        // SAFETY: reads into the rest of our own array.
+        let n = unsafe { libc::read(0, nonce[got..].as_mut_ptr().cast(), nonce.len() - got) };
+        if n == 0 {
+            return Err("the grader is gone".into());
+        }
+        if n < 0 {
+            if std::io::Error::last_os_error().raw_os_error() == Some(libc::EINTR) {
+                continue;
+            }
+            return Err(os_error("cannot read the grader's nonce"));
+        }
+        got += n as usize;
+    }
+    Ok(nonce)
+}
+
 /// Locks this process in and `exec`s the child. Returns only on failure.
 fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     use std::io::Write;
@@ -948,6 +972,10 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     // asks for, whatever umask the grader was started with.
     // SAFETY: a plain system call.
     unsafe { libc::umask(0o022) };
+    let nonce = match read_nonce() {
+        Ok(n) => n,
+        Err(e) => return e,
+    };
     let early = || -> Result<(std::fs::File, bool), String> {
         move_request()?;
         own_session()?;
@@ -1098,11 +1126,27 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     unsafe {
         libc::fexecve(program.as_raw_fd(), argv_p.as_ptr(), envp_p.as_ptr());
     }
-    format!(
-        "cannot start {}: {}",
+    let error = std::io::Error::last_os_error();
+    // SAFETY: geteuid only reads.
+    let user = if unsafe { libc::geteuid() } == NOBODY {
+        "nobody"
+    } else {
+        "the grader's"
+    };
+    let why = format!(
+        "cannot start the child program {}: {error} (can user {} run it: may it read the \
+         program and its dynamic loader and libraries, and is their file system mounted \
+         without noexec?)",
         child.display(),
-        std::io::Error::last_os_error()
-    )
+        user
+    );
+    // Said with the grader's nonce, which no student code can hold: this
+    // failure is the machine's, never the student's, though it comes after
+    // the report (student code that prints the same words is the student's).
+    let frame = crate::isolate::wire::launch_failed_frame(&nonce, &why);
+    let _ = std::io::stdout().write_all(&frame);
+    let _ = std::io::stdout().flush();
+    why
 }
 
 /// The protections in force, from the launcher's status frame, as the

@@ -8,7 +8,9 @@
 //! call cost), then one [`Frame::Result`]; a child serves several requests
 //! in turn, each sent length-first ([`framed_request`]), each answered by
 //! its own started, CPU time and result frames (the result length-first,
-//! see [`frame_at`]).
+//! see [`frame_at`]). A launcher whose `exec` of the child program failed
+//! sends [`Frame::LaunchFailed`] instead, with the nonce the grader gave it
+//! (which no student code ever holds).
 //! A request may ask the child to record a subdivision (see
 //! `halfedge::recording`): the frames then come back inside the result.
 //!
@@ -140,13 +142,24 @@ pub enum Frame {
     /// before the result; the scaling check reads it, nothing is judged by it).
     CpuTime(std::time::Duration),
     Result(Ran),
+    /// The launcher could not `exec` the child program (after its report):
+    /// the nonce the grader sent it first on its stdin, and why.
+    LaunchFailed {
+        nonce: [u8; NONCE_LEN],
+        why: String,
+    },
 }
+
+/// The length of the nonce a grader sends its launcher (see
+/// [`Frame::LaunchFailed`]).
+pub const NONCE_LEN: usize = 16;
 
 const REQUEST_MAGIC: &[u8; 4] = b"MLQ1";
 const TAG_SANDBOX: u8 = b'L';
 const TAG_STARTED: u8 = b'S';
 const TAG_RESULT: u8 = b'R';
 const TAG_CPU: u8 = b'C';
+const TAG_LAUNCH_FAILED: u8 = b'F';
 
 /// Why bytes could not be decoded.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -433,6 +446,15 @@ pub fn reported_cpu_time(bytes: &[u8]) -> Option<std::time::Duration> {
     })
 }
 
+/// The launcher's frame when the child program could not be started: the
+/// grader's nonce, then why (as [`sandbox_frame`] sends its text).
+pub fn launch_failed_frame(nonce: &[u8; NONCE_LEN], why: &str) -> Vec<u8> {
+    let mut out = vec![TAG_LAUNCH_FAILED];
+    put_str(&mut out, why);
+    out.extend_from_slice(nonce);
+    out
+}
+
 /// A call's last frame: the tag, the payload's length (so a reader of the
 /// stream knows when it is whole, and can refuse one too large before
 /// reading it), the payload.
@@ -633,6 +655,11 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
             TAG_SANDBOX => frames.push(Frame::Sandbox(r.str()?)),
             TAG_STARTED => frames.push(Frame::Started),
             TAG_CPU => frames.push(Frame::CpuTime(std::time::Duration::from_nanos(r.u64()?))),
+            TAG_LAUNCH_FAILED => {
+                let why = r.str()?;
+                let nonce = r.take(NONCE_LEN)?.try_into().expect("NONCE_LEN bytes");
+                frames.push(Frame::LaunchFailed { nonce, why });
+            }
             TAG_RESULT => {
                 let n = r.u64()?;
                 let payload = r.take(usize::try_from(n).unwrap_or(usize::MAX))?;
@@ -728,6 +755,12 @@ pub fn frame_at(bytes: &[u8]) -> Result<Pending, WireError> {
         TAG_CPU => Ok(sized(9, Some(0))),
         TAG_SANDBOX => Ok(sized(
             5,
+            bytes
+                .get(1..5)
+                .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as u64),
+        )),
+        TAG_LAUNCH_FAILED => Ok(sized(
+            5 + NONCE_LEN,
             bytes
                 .get(1..5)
                 .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as u64),
@@ -969,6 +1002,8 @@ mod tests {
                 cut: Some(halfedge::recording::Cut::Bytes(1 << 25)),
             }),
         }));
+        let nonce = [7u8; NONCE_LEN];
+        bytes.extend(launch_failed_frame(&nonce, "cannot start /child"));
         let frames = decode_frames(&bytes).unwrap();
         assert_eq!(
             reported_cpu_time(&bytes),
@@ -976,6 +1011,11 @@ mod tests {
         );
         assert!(matches!(&frames[0], Frame::Sandbox(s) if s == "landlock v6"));
         assert!(matches!(frames[1], Frame::Started));
+        assert!(
+            matches!(&frames[4], Frame::LaunchFailed { nonce: n, why } if *n == nonce && why == "cannot start /child"),
+            "{:?}",
+            frames[4]
+        );
         match &frames[3] {
             Frame::Result(Ran::Returned {
                 answer,
@@ -1025,6 +1065,12 @@ mod tests {
         assert_eq!(frame_at(&stream), Ok(Pending::Whole(6)));
         assert_eq!(frame_at(&stream[6..]), Ok(Pending::Whole(1)));
         assert_eq!(frame_at(&stream[7..]), Ok(Pending::Whole(result.len())));
+        let failed = launch_failed_frame(&[1; NONCE_LEN], "why");
+        assert_eq!(frame_at(&failed), Ok(Pending::Whole(5 + NONCE_LEN + 3)));
+        assert_eq!(
+            frame_at(&failed[..6]),
+            Ok(Pending::Partial(Some(failed.len())))
+        );
         assert_eq!(frame_at(&result[..5]), Ok(Pending::Partial(None)));
         assert_eq!(
             frame_at(&result[..20]),
