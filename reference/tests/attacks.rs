@@ -523,8 +523,19 @@ fn the_grader_s_priority_and_limits_are_out_of_reach() {
 /// class builds share one target folder, and each removes the previous
 /// submission's compiled crate from it.
 fn grade_class(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
+    let _turn = class_turn();
+    grade_class_in_turn(name, lib_rs)
+}
+
+/// The turn on the class build folder, for a test that also runs the
+/// programs a class build left there.
+fn class_turn() -> std::sync::MutexGuard<'static, ()> {
     static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    TURN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// [`grade_class`], the turn already taken.
+fn grade_class_in_turn(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
     let dir = std::env::temp_dir().join(format!("attack-class-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("submissions")).unwrap();
@@ -593,6 +604,98 @@ fn leak() -> ! {
         "{row:?}\n{}",
         leaked.join("\n")
     );
+}
+
+/// A student's `lib.rs` whose `loop_subdivide` is the model's, then a scan
+/// of every edge for each edge (right results, quadratic time), and which
+/// replaces libc's `clock_gettime` in its program with one of its own that
+/// says 1 µs passed at each call: a child's own timing of the call would
+/// say 0.001 ms and "scales well". It prints what its own clock says one
+/// round took, once.
+fn own_clock_quadratic() -> String {
+    let solution = read(&reference::lab_root().join("reference/src/solution.rs"));
+    solution.replace("pub fn loop_subdivide(", "pub fn loop_subdivide_model(")
+        + r#"
+static TICKS: std::sync::atomic::AtomicI64 = std::sync::atomic::AtomicI64::new(0);
+
+/// Every clock of this program, libc's own replaced: 1 us a call.
+#[no_mangle]
+pub unsafe extern "C" fn clock_gettime(_clock: i32, now: *mut [i64; 2]) -> i32 {
+    let t = TICKS.fetch_add(1000, std::sync::atomic::Ordering::Relaxed);
+    if !now.is_null() {
+        *now = [t / 1_000_000_000, t % 1_000_000_000];
+    }
+    0
+}
+
+static SAID: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+pub fn loop_subdivide(mesh: &mut Mesh) {
+    let begun = std::time::Instant::now();
+    loop_subdivide_model(mesh);
+    let mut sum = 0u64;
+    for e in mesh.edge_ids() {
+        for f in mesh.edge_ids() {
+            sum = sum.wrapping_add(std::hint::black_box(e.0 ^ f.0) as u64);
+        }
+    }
+    std::hint::black_box(sum);
+    if !SAID.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        println!("my own clock says one round took {:?}", begun.elapsed());
+    }
+}
+"#
+}
+
+#[test]
+fn a_student_s_own_clock_times_nothing() {
+    // Built as a class builds it (locked in, the student's crate and the
+    // grader), then the student's own grader run as `cargo run -p grader`
+    // runs it, on the lab's subdivisions: the scaling check.
+    let _turn = class_turn();
+    let (row, log) = grade_class_in_turn("own-clock", &own_clock_quadratic());
+    assert_eq!(row.status, "passed", "right results: {row:?}\n{log}");
+    // Its clock is the one its program runs on: the child's own timing of
+    // a call would be the student's word.
+    let own = log
+        .lines()
+        .find_map(|l| l.split("my own clock says one round took ").nth(1))
+        .unwrap_or_else(|| panic!("the child's own clock: {log}"));
+    assert!(own.ends_with("µs") && own.len() < 8, "{own}");
+    let grader = autograde::grade::programs_dir(&class_build_dir().join("target"))
+        .join(autograde::grade::PROGRAMS[0]);
+    let fixtures = reference::lab_root().join("fixtures");
+    let run = |format: &str| {
+        let out = Command::new(&grader)
+            .args(["--stage", "subdivide", "--no-color", "--format", format])
+            .arg("--fixtures")
+            .arg(&fixtures)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        stdout
+    };
+    let text = run("text");
+    assert!(
+        text.lines()
+            .any(|l| l.contains("[warn] loop_subdivide's time grew ")
+                && l.contains("is there a loop over all edges (or vertices) inside a loop?")),
+        "{text}"
+    );
+    let report: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+    let s = &report["scaling"];
+    eprintln!("the own-clock quadratic's scaling, as the grader timed it: {s}");
+    assert_eq!(s["quadratic"], true, "{s}");
+    // The model solution's round on 1280 faces is about 12 ms here; this
+    // one scans 7680 x 7680 edges: far more, never 0.001 ms.
+    let large = s["seconds"][1].as_f64().unwrap();
+    assert!(large > 0.05, "{s}");
 }
 
 #[test]
