@@ -749,6 +749,23 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     assert!(ms > 0.0 && ms < good_took.as_secs_f64() * 1000.0, "{ms} ms");
     assert!(log.contains("leaderboard: loop_subdivide"), "{log}");
 
+    // A student whose program has its own clock_gettime (1 us a call) and a
+    // quadratic subdivision: the grader times the child from the kernel,
+    // so the leaderboard shows the work, never 0.001 ms. (A per-call limit
+    // of 5 s: the larger round takes a few tenths of a second here.)
+    let (own, _, own_log) = upload_with(
+        &[("lib.rs", own_clock_quadratic())],
+        &[],
+        Some((480.0, 5.0)),
+        false,
+    );
+    assert_eq!(own["score"].as_f64(), Some(max), "{own_log}\n{own}");
+    let own_ms = own["leaderboard"][0]["value"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no leaderboard: {own_log}\n{own}"));
+    eprintln!("leaderboard: the model solution {ms} ms, the own-clock quadratic {own_ms} ms");
+    assert!(own_ms > 4.0 * ms, "{own_ms} ms against the model's {ms} ms");
+
     // A whole workspace: the student's file, never another crate's lib.rs
     // (which sorts first).
     let workspace = [
