@@ -793,6 +793,7 @@ fn prepare_workers(
         status,
         drop_user,
         landlock: options.landlock,
+        empty_root: true,
     };
     let exe = grade::programs_dir(&target).join(format!(
         "{}{}",

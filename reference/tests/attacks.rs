@@ -592,8 +592,16 @@ fn leak() -> ! {
     assert!(!log.is_empty(), "no log for {row:?}");
     assert_eq!(row.status, "does not compile", "{row:?}");
     assert_eq!(row.score, 0.0, "{row:?}");
-    let denied = format!("couldn't read `{}`: Permission denied", secret.display());
+    // Not even there: the build's root holds only what it needs.
+    let denied = format!(
+        "couldn't read `{}`: No such file or directory",
+        secret.display()
+    );
     assert!(log.contains(&denied), "{log}");
+    assert!(
+        log.contains("empty root (no other file even seen to exist)"),
+        "{log}"
+    );
     let leaked: Vec<&str> = log
         .lines()
         .filter(|l| l.contains("LEAKED"))
@@ -655,6 +663,57 @@ fn a_student_s_own_clock_times_nothing() {
     // one scans 7680 x 7680 edges: far more, never 0.001 ms.
     let large = s["seconds"][1].as_f64().unwrap();
     assert!(large > 0.05, "{s}");
+}
+
+/// The compiler's error lines about `path` in a class log, the path
+/// itself replaced by `PATH`.
+fn errors_about(log: &str, path: &Path) -> Vec<String> {
+    let path = path.to_str().unwrap();
+    log.lines()
+        .filter(|l| l.contains(path))
+        .map(|l| l.replace(path, "PATH"))
+        .collect()
+}
+
+#[test]
+fn the_build_cannot_tell_a_hidden_file_from_a_missing_one() {
+    // On PrairieLearn a compile error costs no attempt: if embedding a
+    // guessed name failed one way where the file exists and another where
+    // it does not, one upload could test many names. The TA's own hidden
+    // case, by its absolute path, and a name beside it that no case has:
+    // the same compiler error, but for the path.
+    let stubs = read(&reference::lab_root().join("crates/meshedit/src/lib.rs"));
+    let hidden = reference::lab_root().join("fixtures/hidden");
+    let existing = std::fs::read_dir(&hidden)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "json"))
+        .expect("a hidden case");
+    // As long as the real name: the compiler shortens a long line it quotes.
+    let length = existing.file_name().unwrap().len();
+    let missing = hidden.join(format!("{}.json", "z".repeat(length - 5)));
+    assert!(!missing.exists());
+    let embed = |path: &Path| {
+        format!(
+            "{stubs}\npub const GUESS: &str = include_str!({:?});\n",
+            path.to_str().unwrap()
+        )
+    };
+    let (row, there) = grade_class("guess-there", &embed(&existing));
+    assert_eq!(row.status, "does not compile", "{row:?}\n{there}");
+    let (row, nowhere) = grade_class("guess-nowhere", &embed(&missing));
+    assert_eq!(row.status, "does not compile", "{row:?}\n{nowhere}");
+    let (a, b) = (
+        errors_about(&there, &existing),
+        errors_about(&nowhere, &missing),
+    );
+    assert!(!a.is_empty(), "{there}");
+    assert_eq!(a, b, "{there}\n---\n{nowhere}");
+    assert!(
+        a.iter()
+            .any(|l| l.contains("couldn't read `PATH`: No such file or directory")),
+        "{a:?}"
+    );
 }
 
 #[test]

@@ -308,7 +308,7 @@ fn landlock(program: &std::fs::File) -> Result<i32, String> {
 /// `/dev/null`: never a terminal, whatever started the grader.
 pub const REQUEST_FD: i32 = 3;
 
-fn os_error(what: &str) -> String {
+pub(crate) fn os_error(what: &str) -> String {
     format!("{what}: {}", std::io::Error::last_os_error())
 }
 
@@ -456,7 +456,7 @@ fn enter_pid_namespace() -> Result<bool, String> {
 }
 
 #[cfg(target_os = "linux")]
-fn fork() -> Result<libc::pid_t, String> {
+pub(crate) fn fork() -> Result<libc::pid_t, String> {
     // SAFETY: the launcher has one thread; both sides go on with plain
     // system calls and its own code.
     match unsafe { libc::fork() } {
@@ -467,7 +467,7 @@ fn fork() -> Result<libc::pid_t, String> {
 
 #[cfg(target_os = "linux")]
 /// Waits for `pid` (retrying on interruption) and returns its wait status.
-fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
+pub(crate) fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
     let mut status = 0;
     loop {
         // SAFETY: waits for our own child, into our own int.
@@ -484,7 +484,7 @@ fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
 #[cfg(target_os = "linux")]
 /// Ends this process the way `status` says another ended: the same exit
 /// code, or the same signal (no core file: the limit is 0).
-fn end_like(status: libc::c_int) -> ! {
+pub(crate) fn end_like(status: libc::c_int) -> ! {
     // SAFETY: plain system calls; the process ends here.
     unsafe {
         if libc::WIFSIGNALED(status) {
@@ -612,7 +612,7 @@ const SYSTEM_PATHS: [&str; 5] = [
 ];
 
 #[cfg(target_os = "linux")]
-fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
+pub(crate) fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
     use std::os::unix::ffi::OsStrExt;
     std::ffi::CString::new(path.as_os_str().as_bytes())
         .map_err(|_| format!("{} holds a NUL byte", path.display()))
@@ -620,7 +620,7 @@ fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
 
 /// `mount(2)` with Rust arguments; `None` for a null pointer.
 #[cfg(target_os = "linux")]
-fn mount(
+pub(crate) fn mount(
     source: Option<&Path>,
     target: &Path,
     fstype: Option<&str>,
@@ -649,16 +649,30 @@ fn mount(
 }
 
 /// Binds `source` (a folder or a file) at `target`, read-only, no set-uid,
-/// no devices. The source mount's own locked flags (`noexec`, the access
-/// times) are kept: in a user namespace, a remount that drops them fails.
+/// no devices (see [`remount_read_only`]).
 #[cfg(target_os = "linux")]
 fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
+    mount(
+        Some(source),
+        target,
+        None,
+        libc::MS_BIND | libc::MS_REC,
+        None,
+    )?;
+    remount_read_only(target)
+}
+
+/// Remounts the bind mount at `target` read-only, no set-uid, no devices.
+/// Its own locked flags (`noexec`, the access times) are kept: in a user
+/// namespace, a remount that drops them fails.
+#[cfg(target_os = "linux")]
+pub(crate) fn remount_read_only(target: &Path) -> Result<(), String> {
     let mut kept: libc::c_ulong = 0;
     // SAFETY: statvfs fills our own struct.
     unsafe {
         let mut st: libc::statvfs = std::mem::zeroed();
-        if libc::statvfs(cpath(source)?.as_ptr(), &mut st) != 0 {
-            return Err(os_error(&format!("statvfs {}", source.display())));
+        if libc::statvfs(cpath(target)?.as_ptr(), &mut st) != 0 {
+            return Err(os_error(&format!("statvfs {}", target.display())));
         }
         for (st_flag, ms_flag) in [
             (libc::ST_NOEXEC, libc::MS_NOEXEC),
@@ -671,13 +685,6 @@ fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
             }
         }
     }
-    mount(
-        Some(source),
-        target,
-        None,
-        libc::MS_BIND | libc::MS_REC,
-        None,
-    )?;
     mount(
         None,
         target,
