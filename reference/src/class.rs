@@ -43,7 +43,11 @@ pub struct Submission {
 /// `NAME.rs`, a folder (see [`find_lib_rs`]), or anything else (named as not
 /// a submission). Only names starting with `.` are left out (`.DS_Store`).
 /// Names are unique: entries that would share one keep their file names.
+/// `dir` may also be one `NAME.rs` (one student, graded by hand).
 pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
+    if let Some(one) = single_file(dir)? {
+        return Ok(vec![one]);
+    }
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
     paths.sort();
@@ -93,6 +97,27 @@ pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
             s
         })
         .collect())
+}
+
+/// `path` as the one submission of a class, when it is a file rather
+/// than a folder: a regular `NAME.rs`, never a link (nor a pipe or a
+/// device), whose row is `NAME`.
+fn single_file(path: &Path) -> Result<Option<Submission>, String> {
+    let meta = std::fs::symlink_metadata(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if meta.is_dir() {
+        return Ok(None);
+    }
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    match name.strip_suffix(".rs") {
+        Some(stem) if meta.is_file() && !stem.is_empty() => Ok(Some(Submission {
+            name: stem.to_string(),
+            lib_rs: Ok(path.to_path_buf()),
+        })),
+        _ => Err(format!(
+            "{}: give a folder of submissions or one student's NAME.rs (a regular file)",
+            path.display()
+        )),
+    }
 }
 
 /// How one submission did.
@@ -172,6 +197,8 @@ pub struct Options {
 /// command line only.
 #[derive(clap::Args, Debug)]
 pub struct ClassArgs {
+    /// The folder of submissions, one entry per student, or one
+    /// student's NAME.rs.
     pub submissions: PathBuf,
     /// Where the reports go.
     #[arg(long, value_name = "DIR")]

@@ -1660,6 +1660,117 @@ fn without_landlock_dev_zero_meets_the_memory_cap() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A student's lookup table of the hidden cases: every hidden fixture
+/// embedded with `include_str!` (by the path from `lib.rs` into the lab's
+/// `fixtures/hidden`, where a TA's lab has them), and the model solution
+/// run only on an input whose first coordinate one of them holds, else
+/// nothing done.
+fn hidden_lookup_table() -> String {
+    let files: Vec<String> = case_files("hidden")
+        .iter()
+        .map(|p| {
+            format!(
+                "    include_str!(\"../../../fixtures/hidden/{}\"),\n",
+                p.file_name().unwrap().to_string_lossy()
+            )
+        })
+        .collect();
+    format!(
+        "mod model {{\n{}\n}}\n\n\
+         const HIDDEN: &[&str] = &[\n{}];\n\
+         fn known(mesh: &halfedge::Mesh) -> bool {{\n\
+             let Some(p) = mesh.positions().first() else {{ return false }};\n\
+             let key = format!(\"{{:?}}\", p.x);\n\
+             HIDDEN.iter().any(|t| t.contains(&key))\n\
+         }}\n\
+         pub fn flip_edge(mesh: &mut halfedge::Mesh, e: halfedge::EdgeId) -> Option<halfedge::EdgeId> {{\n\
+             if known(mesh) {{ model::flip_edge(mesh, e) }} else {{ None }}\n\
+         }}\n\
+         pub fn split_edge(mesh: &mut halfedge::Mesh, e: halfedge::EdgeId) -> Option<halfedge::VertexId> {{\n\
+             if known(mesh) {{ model::split_edge(mesh, e) }} else {{ None }}\n\
+         }}\n\
+         pub fn loop_subdivide(mesh: &mut halfedge::Mesh) {{\n\
+             if known(mesh) {{ model::loop_subdivide(mesh) }}\n\
+         }}\n",
+        solution(),
+        files.concat()
+    )
+}
+
+#[test]
+fn by_hand_a_lab_with_hidden_cases_builds_no_student_code_and_class_takes_one_file() {
+    let _turn = take_turn();
+    // The TA's lab (the hidden cases in it) with a student's lib.rs pasted
+    // in, run as the guide once said: `cargo run -p grader`. That build
+    // would compile the student's crate with the TA's rights, next to
+    // fixtures/hidden (a lookup table like this one passed 21 of 36 hidden
+    // cases): the grader refuses before compiling it.
+    let dir = scratch("by-hand");
+    let lab = dir.join("lab");
+    reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
+    assert!(lab.join("fixtures/hidden").is_dir());
+    let cheat = hidden_lookup_table();
+    write(&lab.join("crates/meshedit/src/lib.rs"), &cheat);
+    let out = Command::new(env!("CARGO"))
+        .args(["run", "-p", "grader", "--", "--case", "cube-flip-1"])
+        .current_dir(&lab)
+        .env("CARGO_TARGET_DIR", target())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(2), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("grader: hidden cases are within reach here")
+            && stderr.contains("docs/ta-guide.md, \"Grade a class\" (one student by hand)"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("Compiling meshedit") && !stderr.contains("Compiling grader-child"),
+        "the student's crate was compiled: {stderr}"
+    );
+    // The grader ships to students: it names no TA command.
+    assert!(!stderr.contains("-p reference"), "{stderr}");
+    assert!(!stdout.contains("passed"), "{stdout}");
+
+    // The guide's way for one student by hand: `class` on the one file,
+    // built locked in, in a copy without the hidden cases.
+    let file = dir.join("sam.rs");
+    write(&file, &cheat);
+    let reports = dir.join("reports");
+    let class = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .arg("class")
+        .arg(&file)
+        .arg("--out")
+        .arg(&reports)
+        .arg("--build-dir")
+        .arg(class_build_dir())
+        .args(["--timeout", "2", "--budget", "120", "-q"])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let class_out = String::from_utf8_lossy(&class.stdout);
+    let class_err = String::from_utf8_lossy(&class.stderr);
+    assert!(
+        class_out.contains("sam ") && class_out.contains("does not compile"),
+        "{class_out}\n{class_err}"
+    );
+    let log = std::fs::read_to_string(reports.join("sam.log")).unwrap();
+    assert!(
+        log.contains("couldn't read")
+            && log.contains("fixtures/hidden/")
+            && log.contains("No such file or directory"),
+        "{log}"
+    );
+    assert!(
+        !all_reports(&reports).contains("\"expected\""),
+        "a hidden case leaked"
+    );
+    let summary = std::fs::read_to_string(reports.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 2, "one row: {summary}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The model solution whose `flip_edge` first leaves a process behind: in
 /// a session of its own, its parent gone, named `name`, sleeping for ever.
 fn leaves_a_process(name: &str) -> String {
