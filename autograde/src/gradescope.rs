@@ -199,6 +199,7 @@ fn locked_build(
         status: work.join("build.status"),
         drop_user: settings.drop_user,
         landlock: true,
+        empty_root: true,
     };
     let me = std::env::current_exe().map_err(|e| e.to_string())?;
     grade::build(&build, &me, work)

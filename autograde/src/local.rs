@@ -96,6 +96,7 @@ pub fn grade(local: &Local, log: &dyn Fn(&str)) -> Result<Outcome, String> {
         // the submission's alone.
         drop_user: false,
         landlock: true,
+        empty_root: true,
     };
     let me = std::env::current_exe().map_err(|e| e.to_string())?;
     let built = grade::build(&build, &me, &work)?;

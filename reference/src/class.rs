@@ -45,7 +45,11 @@ pub struct Submission {
 /// Names are unique: entries that would share one keep their file names.
 /// Each file is looked at as [`read_source`] reads it: a named pipe, a
 /// device or a file over the cap is that entry's reason, never opened.
+/// `dir` may also be one `NAME.rs` (one student, graded by hand).
 pub fn find_submissions(dir: &Path) -> Result<Vec<Submission>, String> {
+    if let Some(one) = single_file(dir)? {
+        return Ok(vec![one]);
+    }
     let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
     paths.sort();
@@ -143,6 +147,27 @@ pub fn file_stem(name: &str) -> String {
     format!("{stem}-{}", &digest[..16])
 }
 
+/// `path` as the one submission of a class, when it is a file rather
+/// than a folder: a regular `NAME.rs`, never a link (nor a pipe or a
+/// device), whose row is `NAME`.
+fn single_file(path: &Path) -> Result<Option<Submission>, String> {
+    let meta = std::fs::symlink_metadata(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if meta.is_dir() {
+        return Ok(None);
+    }
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    match name.strip_suffix(".rs") {
+        Some(stem) if meta.is_file() && !stem.is_empty() => Ok(Some(Submission {
+            name: stem.to_string(),
+            lib_rs: Ok(path.to_path_buf()),
+        })),
+        _ => Err(format!(
+            "{}: give a folder of submissions or one student's NAME.rs (a regular file)",
+            path.display()
+        )),
+    }
+}
+
 /// How one submission did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -227,6 +252,8 @@ pub struct Options {
 /// command line only.
 #[derive(clap::Args, Debug)]
 pub struct ClassArgs {
+    /// The folder of submissions, one entry per student, or one
+    /// student's NAME.rs.
     pub submissions: PathBuf,
     /// Where the reports go.
     #[arg(long, value_name = "DIR")]
@@ -915,6 +942,7 @@ fn prepare_workers(
         status,
         drop_user,
         landlock: options.landlock,
+        empty_root: true,
     };
     let exe = grade::programs_dir(&target).join(format!(
         "{}{}",

@@ -525,7 +525,18 @@ static CLASS_TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Class grading of one submission, as the TA runs it, one at a time.
 fn grade_class(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
-    let _turn = CLASS_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let _turn = class_turn();
+    grade_class_in_turn(name, lib_rs)
+}
+
+/// The turn on the class build folder, for a test that also runs the
+/// programs a class build left there.
+fn class_turn() -> std::sync::MutexGuard<'static, ()> {
+    CLASS_TURN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// [`grade_class`], the turn already taken.
+fn grade_class_in_turn(name: &str, lib_rs: &str) -> (reference::class::Row, String) {
     let dir = std::env::temp_dir().join(format!("attack-class-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("submissions")).unwrap();
@@ -582,8 +593,16 @@ fn leak() -> ! {
     assert!(!log.is_empty(), "no log for {row:?}");
     assert_eq!(row.status, "does not compile", "{row:?}");
     assert_eq!(row.score, 0.0, "{row:?}");
-    let denied = format!("couldn't read `{}`: Permission denied", secret.display());
+    // Not even there: the build's root holds only what it needs.
+    let denied = format!(
+        "couldn't read `{}`: No such file or directory",
+        secret.display()
+    );
     assert!(log.contains(&denied), "{log}");
+    assert!(
+        log.contains("empty root (no other file even seen to exist)"),
+        "{log}"
+    );
     let leaked: Vec<&str> = log
         .lines()
         .filter(|l| l.contains("LEAKED"))
@@ -593,6 +612,112 @@ fn leak() -> ! {
         !log.contains("TA-SECRET-TOKEN") && !log.contains("\"expected\": {"),
         "{row:?}\n{}",
         leaked.join("\n")
+    );
+}
+
+#[test]
+fn a_student_s_own_clock_times_nothing() {
+    // Built as a class builds it (locked in, the student's crate and the
+    // grader), then the student's own grader run as `cargo run -p grader`
+    // runs it, on the lab's subdivisions: the scaling check.
+    let _turn = class_turn();
+    let (row, log) = grade_class_in_turn("own-clock", &own_clock_quadratic());
+    assert_eq!(row.status, "passed", "right results: {row:?}\n{log}");
+    // Its clock is the one its program runs on: the child's own timing of
+    // a call would be the student's word.
+    let own = log
+        .lines()
+        .find_map(|l| l.split("my own clock says one round took ").nth(1))
+        .unwrap_or_else(|| panic!("the child's own clock: {log}"));
+    assert!(own.ends_with("µs") && own.len() < 8, "{own}");
+    let grader = autograde::grade::programs_dir(&class_build_dir().join("target"))
+        .join(autograde::grade::PROGRAMS[0]);
+    let fixtures = reference::lab_root().join("fixtures");
+    let run = |format: &str| {
+        // Without CARGO, which cargo sets for this test: with it the
+        // grader would build the child itself, and refuse where the
+        // fixtures hold hidden cases.
+        let out = Command::new(&grader)
+            .args(["--stage", "subdivide", "--no-color", "--format", format])
+            .arg("--fixtures")
+            .arg(&fixtures)
+            .env_remove("CARGO")
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        stdout
+    };
+    let text = run("text");
+    assert!(
+        text.lines()
+            .any(|l| l.contains("[warn] loop_subdivide's time grew ")
+                && l.contains("is there a loop over all edges (or vertices) inside a loop?")),
+        "{text}"
+    );
+    let report: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+    let s = &report["scaling"];
+    eprintln!("the own-clock quadratic's scaling, as the grader timed it: {s}");
+    assert_eq!(s["quadratic"], true, "{s}");
+    // The model solution's round on 1280 faces is about 12 ms here; this
+    // one scans 7680 x 7680 edges: far more, never 0.001 ms.
+    let large = s["seconds"][1].as_f64().unwrap();
+    assert!(large > 0.05, "{s}");
+}
+
+/// The compiler's error lines about `path` in a class log, the path
+/// itself replaced by `PATH`.
+fn errors_about(log: &str, path: &Path) -> Vec<String> {
+    let path = path.to_str().unwrap();
+    log.lines()
+        .filter(|l| l.contains(path))
+        .map(|l| l.replace(path, "PATH"))
+        .collect()
+}
+
+#[test]
+fn the_build_cannot_tell_a_hidden_file_from_a_missing_one() {
+    // On PrairieLearn a compile error costs no attempt: if embedding a
+    // guessed name failed one way where the file exists and another where
+    // it does not, one upload could test many names. The TA's own hidden
+    // case, by its absolute path, and a name beside it that no case has:
+    // the same compiler error, but for the path.
+    let stubs = read(&reference::lab_root().join("crates/meshedit/src/lib.rs"));
+    let hidden = reference::lab_root().join("fixtures/hidden");
+    let existing = std::fs::read_dir(&hidden)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "json"))
+        .expect("a hidden case");
+    // As long as the real name: the compiler shortens a long line it quotes.
+    let length = existing.file_name().unwrap().len();
+    let missing = hidden.join(format!("{}.json", "z".repeat(length - 5)));
+    assert!(!missing.exists());
+    let embed = |path: &Path| {
+        format!(
+            "{stubs}\npub const GUESS: &str = include_str!({:?});\n",
+            path.to_str().unwrap()
+        )
+    };
+    let (row, there) = grade_class("guess-there", &embed(&existing));
+    assert_eq!(row.status, "does not compile", "{row:?}\n{there}");
+    let (row, nowhere) = grade_class("guess-nowhere", &embed(&missing));
+    assert_eq!(row.status, "does not compile", "{row:?}\n{nowhere}");
+    let (a, b) = (
+        errors_about(&there, &existing),
+        errors_about(&nowhere, &missing),
+    );
+    assert!(!a.is_empty(), "{there}");
+    assert_eq!(a, b, "{there}\n---\n{nowhere}");
+    assert!(
+        a.iter()
+            .any(|l| l.contains("couldn't read `PATH`: No such file or directory")),
+        "{a:?}"
     );
 }
 
@@ -689,21 +814,149 @@ fn a_root_grader_never_runs_student_code_as_root() {
 
 #[test]
 fn student_code_cannot_pass_for_a_sandbox_failure() {
-    let g = grade(
-        "fake-sandbox-failure",
-        &["--case", "cube-subdivide-1", "--timeout", "5"],
-    );
+    // The launcher's words, and its frame for a child program that could
+    // not start (sent after its report, as the real one is) with a nonce of
+    // the student's guessing: the student's exit either way.
+    for attack in ["fake-sandbox-failure", "fake-launch-failure"] {
+        let g = grade(attack, &["--case", "cube-subdivide-1", "--timeout", "5"]);
+        assert!(
+            !g.stderr.contains("the grading sandbox could not be set up"),
+            "{attack}: {}",
+            g.context()
+        );
+        assert_eq!(g.code, 1, "{attack}: {}", g.context());
+        assert!(
+            g.warned("loop_subdivide ended the program (exit status 97) before returning"),
+            "{attack}: {}",
+            g.context()
+        );
+    }
+}
+
+/// A command that runs `exe` with umask 077, as a root whose shell sets it
+/// (so every file and folder made without an explicit mode is private).
+fn with_umask_077(exe: &Path) -> Command {
+    use std::os::unix::process::CommandExt;
+    let mut cmd = Command::new(exe);
+    // SAFETY: umask is async-signal-safe and touches no memory.
+    unsafe {
+        cmd.pre_exec(|| {
+            libc::umask(0o077);
+            Ok(())
+        });
+    }
+    cmd
+}
+
+#[test]
+fn the_model_solution_passes_as_root_under_umask_077() {
+    use std::os::unix::fs::PermissionsExt;
+    if !is_root() {
+        common::skip("umask 077 hides the child's folders from nobody only for a root grader");
+        return;
+    }
+    // The folders of the child's empty root are made by the launcher as
+    // root, and the child runs as nobody: with umask 077 they were private
+    // and the child could not start ("does your code call
+    // std::process::exit?" on every case, for the model solution too).
+    let exe = Path::new(env!("CARGO_BIN_EXE_reference"));
+    let g = grade_with(&mut with_umask_077(exe), "reference", &[]);
+    assert_eq!(g.code, 0, "{}", g.context());
     assert!(
-        !g.stderr.contains("the grading sandbox could not be set up"),
+        g.stdout.contains("all tests passed, congratulations!"),
         "{}",
         g.context()
     );
-    assert_eq!(g.code, 1, "{}", g.context());
+    assert!(!g.stdout.contains("std::process::exit"), "{}", g.context());
+    // A child program built under umask 077 (mode 0700) is copied for
+    // nobody, the copy's folder and mode set explicitly.
+    let dir = scratch_file("umask-exe");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("tmp")).unwrap();
+    let private = dir.join("reference");
+    std::fs::copy(exe, &private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let copied = grade_with(
+        with_umask_077(&private).env("TMPDIR", dir.join("tmp")),
+        "reference",
+        &["--stage", "split"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(copied.code, 0, "{}", copied.context());
     assert!(
-        g.warned("loop_subdivide ended the program (exit status 97) before returning"),
+        copied.stdout.contains("user nobody"),
+        "{}",
+        copied.context()
+    );
+}
+
+#[test]
+fn a_child_program_that_cannot_start_is_the_machine_s_error_not_the_student_s() {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::CommandExt;
+    if !is_root() {
+        common::skip("a file system mounted noexec for the test needs root");
+        return;
+    }
+    // A root grader copies a child program nobody may run into the
+    // temporary folder; here that folder is mounted noexec (as /tmp often
+    // is), so the launcher's exec fails after it reported the protections.
+    // It says so with the grader's nonce: the grader stops, naming the
+    // cause, and no case is failed for it. (Without a PID namespace: in
+    // one, the empty root binds the program afresh, noexec left behind.)
+    let dir = scratch_file("noexec");
+    let _ = std::fs::remove_dir_all(&dir);
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let private = dir.join("reference");
+    std::fs::copy(env!("CARGO_BIN_EXE_reference"), &private).unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let target = std::ffi::CString::new(tmp.to_str().unwrap()).unwrap();
+    let mut cmd = Command::new(&private);
+    cmd.env("TMPDIR", &tmp);
+    // SAFETY: plain system calls on C strings made before the fork.
+    unsafe {
+        cmd.pre_exec(move || {
+            let fail = || Err(std::io::Error::last_os_error());
+            if libc::unshare(libc::CLONE_NEWNS) != 0 {
+                return fail();
+            }
+            let none = std::ptr::null();
+            if libc::mount(
+                none,
+                c"/".as_ptr(),
+                none,
+                libc::MS_REC | libc::MS_PRIVATE,
+                none.cast(),
+            ) != 0
+                || libc::mount(
+                    c"none".as_ptr(),
+                    target.as_ptr(),
+                    c"tmpfs".as_ptr(),
+                    libc::MS_NOEXEC,
+                    c"size=256m".as_ptr().cast(),
+                ) != 0
+            {
+                return fail();
+            }
+            Ok(())
+        });
+    }
+    let g = grade_with(
+        &mut cmd,
+        "reference",
+        &["--case", "cube-flip-1", "--without-pid-namespace"],
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(g.code, 2, "{}", g.context());
+    assert!(
+        g.stderr
+            .contains("the grading sandbox could not be set up: cannot start the child program")
+            && g.stderr.contains("noexec"),
         "{}",
         g.context()
     );
+    assert!(!g.stdout.contains("std::process::exit"), "{}", g.context());
 }
 
 /// Whether a line of a report is student text, shown under `| `.
@@ -1863,7 +2116,7 @@ fn marks_left(marks: &Path) -> Vec<String> {
 /// run and commits.csv say it was dated by his own clock.
 #[test]
 fn a_class_of_hostile_repositories_runs_nothing_and_is_dated_by_the_pushes() {
-    let _turn = CLASS_TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let _turn = class_turn();
     let dir = scratch("class-repositories");
     let subs = dir.join("submissions");
     let marks = dir.join("marks");

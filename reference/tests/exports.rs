@@ -777,6 +777,22 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     let ms = board[0]["value"].as_f64().unwrap();
     assert!(ms > 0.0 && ms < good_took.as_secs_f64() * 1000.0, "{ms} ms");
     assert!(log.contains("leaderboard: loop_subdivide"), "{log}");
+    // A student whose program has its own clock_gettime (1 us a call) and a
+    // quadratic subdivision: the grader times the child from the kernel,
+    // so the leaderboard shows the work, never 0.001 ms. (A per-call limit
+    // of 5 s: the larger round takes a few tenths of a second here.)
+    let (own, _, own_log) = upload_with(
+        &[("lib.rs", own_clock_quadratic())],
+        &[],
+        Some((480.0, 5.0)),
+        false,
+    );
+    assert_eq!(own["score"].as_f64(), Some(max), "{own_log}\n{own}");
+    let own_ms = own["leaderboard"][0]["value"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no leaderboard: {own_log}\n{own}"));
+    eprintln!("leaderboard: the model solution {ms} ms, the own-clock quadratic {own_ms} ms");
+    assert!(own_ms > 4.0 * ms, "{own_ms} ms against the model's {ms} ms");
 
     // What no upload's lib.rs can be: each gets its results.json at once,
     // saying what the file is, with nothing built or read; the uploads
@@ -926,7 +942,33 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     // whoever runs it.
     let absolute = grading.join("hidden").join(&hidden_case);
     let (leak, _, log) = grade(&[("lib.rs", embedding(absolute.to_str().unwrap()))], None);
-    does_not_compile(&leak, &log, "Permission denied");
+    does_not_compile(&leak, &log, "No such file or directory");
+    // ... with the very words a name no case has gets: what the build may
+    // not read, it cannot tell from what does not exist (a compile error
+    // costs no attempt on PrairieLearn: one upload could test many names).
+    // (As long as the real name: the compiler shortens a long line it quotes.)
+    let guessed = grading
+        .join("hidden")
+        .join(format!("{}.json", "z".repeat(hidden_case.len() - 5)));
+    assert!(!guessed.exists());
+    let (miss, _, miss_log) = grade(&[("lib.rs", embedding(guessed.to_str().unwrap()))], None);
+    does_not_compile(&miss, &miss_log, "No such file or directory");
+    let words = |results: &serde_json::Value, path: &Path| {
+        results["output"]
+            .as_str()
+            .unwrap()
+            .lines()
+            .filter(|l| l.contains(path.to_str().unwrap()))
+            .map(|l| l.replace(path.to_str().unwrap(), "PATH"))
+            .collect::<Vec<_>>()
+    };
+    let there = words(&leak, &absolute);
+    assert!(!there.is_empty(), "{leak}");
+    assert_eq!(there, words(&miss, &guessed), "{leak}\n{miss}");
+    assert!(
+        log.contains("empty root (no other file even seen to exist)"),
+        "{log}"
+    );
     // ... by the path from the build's own target folder (in
     // CARGO_TARGET_DIR at compile time), which leads nowhere...
     let from_target =
@@ -935,13 +977,20 @@ fn the_gradescope_bundle_grades_every_kind_of_upload() {
     does_not_compile(&leak, &log, "No such file or directory");
     // ... and files of the machine's that anyone may read: the TA's own
     // lab with its hidden cases and model solution, the environment.
-    for path in [
-        root().join("fixtures/hidden").join(&hidden_case),
-        root().join("reference/src/solution.rs"),
-        PathBuf::from("/proc/self/environ"),
+    // (Not in the build's root; its own /proc is, closed by Landlock.)
+    for (path, why) in [
+        (
+            root().join("fixtures/hidden").join(&hidden_case),
+            "No such file or directory",
+        ),
+        (
+            root().join("reference/src/solution.rs"),
+            "No such file or directory",
+        ),
+        (PathBuf::from("/proc/self/environ"), "Permission denied"),
     ] {
         let (leak, _, log) = grade(&[("lib.rs", embedding(path.to_str().unwrap()))], None);
-        does_not_compile(&leak, &log, "Permission denied");
+        does_not_compile(&leak, &log, why);
         assert!(log.contains("Landlock ABI"), "{log}");
     }
     // Memory without bound at compile time: stopped by the memory cap, named.
@@ -1379,24 +1428,33 @@ fn a_class_folder_gets_a_row_for_every_entry() {
         );
         assert!(log.contains(why), "{name}: {why:?} not in\n{log}");
         assert!(
-            log.contains("build protections: Landlock ABI"),
+            log.contains("build protections: Landlock ABI")
+                && log.contains("empty root (no other file even seen to exist)"),
             "{name}: the build was not locked in:\n{log}"
         );
     };
     refused("ivan", "No such file or directory");
     refused("frankie", "debug/grader-child`: No such file or directory");
+    // Not even there: the build's root holds only what it needs, so what
+    // it may not read it cannot tell from what does not exist.
     refused(
         "judy",
         &format!(
-            "couldn't read `{}`: Permission denied",
+            "couldn't read `{}`: No such file or directory",
             lab_hidden.display()
         ),
     );
     refused(
         "ken",
-        &format!("couldn't read `{}`: Permission denied", ta_file.0.display()),
+        &format!(
+            "couldn't read `{}`: No such file or directory",
+            ta_file.0.display()
+        ),
     );
-    refused("leo", "couldn't read `/dev/zero`: Permission denied");
+    refused(
+        "leo",
+        "couldn't read `/dev/zero`: No such file or directory",
+    );
     refused("mia", "the build used more than 4 GiB");
     assert!(row("mia")
         .first_failure
@@ -1843,10 +1901,12 @@ fn a_build_that_never_ends_is_stopped_and_named() {
 #[test]
 fn without_landlock_dev_zero_meets_the_memory_cap() {
     let _turn = take_turn();
-    // Where the kernel has no Landlock, /dev/zero is readable: the compiler
-    // reading it for ever must be stopped by the memory cap, not left to
-    // the kernel's OOM killer. rustc's read fails under the cap, and it
-    // says so itself: a compile error, quoted.
+    // Where the kernel has neither Landlock nor mount namespaces (both
+    // forced off here), /dev/zero is readable: the compiler reading it for
+    // ever must be stopped by the memory cap, not left to the kernel's OOM
+    // killer. rustc's read fails under the cap, and it says so itself: a
+    // compile error, quoted. (With a root of its own, Landlock or not,
+    // the build has no /dev/zero at all.)
     let dir = scratch("build-zero");
     let lab = dir.join("lab");
     reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
@@ -1876,25 +1936,161 @@ fn without_landlock_dev_zero_meets_the_memory_cap() {
         status: status.clone(),
         drop_user: false,
         landlock: false,
+        empty_root: false,
     };
-    let out = Command::new(env!("CARGO_BIN_EXE_reference"))
-        .args(build.args())
-        .env_clear()
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let report = grader::isolate::build_sandbox::Report::read(&status).unwrap();
-    assert_eq!(
-        report.outcome,
-        grader::isolate::build_sandbox::Outcome::Failed,
-        "{stderr}"
-    );
+    let launch = |build: &grader::isolate::build_sandbox::Build| {
+        let out = Command::new(env!("CARGO_BIN_EXE_reference"))
+            .args(build.args())
+            .env_clear()
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        let report = grader::isolate::build_sandbox::Report::read(&status).unwrap();
+        assert_eq!(
+            report.outcome,
+            grader::isolate::build_sandbox::Outcome::Failed,
+            "{stderr}"
+        );
+        assert!(report.protections().contains("Landlock off"), "{report:?}");
+        assert_ne!(out.status.code(), Some(0));
+        (stderr, report)
+    };
+    let (stderr, report) = launch(&build);
     assert!(
         stderr.contains("couldn't read `/dev/zero`: out of memory"),
         "{stderr}"
     );
-    assert!(report.protections().contains("Landlock off"), "{report:?}");
-    assert_ne!(out.status.code(), Some(0));
+    assert!(
+        report
+            .protections()
+            .contains("machine's files seen to exist (no mount namespace here)"),
+        "{report:?}"
+    );
+    let (stderr, report) = launch(&grader::isolate::build_sandbox::Build {
+        empty_root: true,
+        ..build.clone()
+    });
+    assert!(
+        stderr.contains("couldn't read `/dev/zero`: No such file or directory"),
+        "{stderr}"
+    );
+    assert!(
+        report
+            .protections()
+            .contains("empty root (no other file even seen to exist)"),
+        "{report:?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A student's lookup table of the hidden cases: every hidden fixture
+/// embedded with `include_str!` (by the path from `lib.rs` into the lab's
+/// `fixtures/hidden`, where a TA's lab has them), and the model solution
+/// run only on an input whose first coordinate one of them holds, else
+/// nothing done.
+fn hidden_lookup_table() -> String {
+    let files: Vec<String> = case_files("hidden")
+        .iter()
+        .map(|p| {
+            format!(
+                "    include_str!(\"../../../fixtures/hidden/{}\"),\n",
+                p.file_name().unwrap().to_string_lossy()
+            )
+        })
+        .collect();
+    format!(
+        "mod model {{\n{}\n}}\n\n\
+         const HIDDEN: &[&str] = &[\n{}];\n\
+         fn known(mesh: &halfedge::Mesh) -> bool {{\n\
+             let Some(p) = mesh.positions().first() else {{ return false }};\n\
+             let key = format!(\"{{:?}}\", p.x);\n\
+             HIDDEN.iter().any(|t| t.contains(&key))\n\
+         }}\n\
+         pub fn flip_edge(mesh: &mut halfedge::Mesh, e: halfedge::EdgeId) -> Option<halfedge::EdgeId> {{\n\
+             if known(mesh) {{ model::flip_edge(mesh, e) }} else {{ None }}\n\
+         }}\n\
+         pub fn split_edge(mesh: &mut halfedge::Mesh, e: halfedge::EdgeId) -> Option<halfedge::VertexId> {{\n\
+             if known(mesh) {{ model::split_edge(mesh, e) }} else {{ None }}\n\
+         }}\n\
+         pub fn loop_subdivide(mesh: &mut halfedge::Mesh) {{\n\
+             if known(mesh) {{ model::loop_subdivide(mesh) }}\n\
+         }}\n",
+        solution(),
+        files.concat()
+    )
+}
+
+#[test]
+fn by_hand_a_lab_with_hidden_cases_builds_no_student_code_and_class_takes_one_file() {
+    let _turn = take_turn();
+    // The TA's lab (the hidden cases in it) with a student's lib.rs pasted
+    // in, run as the guide once said: `cargo run -p grader`. That build
+    // would compile the student's crate with the TA's rights, next to
+    // fixtures/hidden (a lookup table like this one passed 21 of 36 hidden
+    // cases): the grader refuses before compiling it.
+    let dir = scratch("by-hand");
+    let lab = dir.join("lab");
+    reference::handout::copy_lab(&root(), &lab, reference::handout::Purpose::Grading).unwrap();
+    assert!(lab.join("fixtures/hidden").is_dir());
+    let cheat = hidden_lookup_table();
+    write(&lab.join("crates/meshedit/src/lib.rs"), &cheat);
+    let out = Command::new(env!("CARGO"))
+        .args(["run", "-p", "grader", "--", "--case", "cube-flip-1"])
+        .current_dir(&lab)
+        .env("CARGO_TARGET_DIR", target())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(2), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("grader: hidden cases are within reach here")
+            && stderr.contains("docs/ta-guide.md, \"Grade a class\" (one student by hand)"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("Compiling meshedit") && !stderr.contains("Compiling grader-child"),
+        "the student's crate was compiled: {stderr}"
+    );
+    // The grader ships to students: it names no TA command.
+    assert!(!stderr.contains("-p reference"), "{stderr}");
+    assert!(!stdout.contains("passed"), "{stdout}");
+
+    // The guide's way for one student by hand: `class` on the one file,
+    // built locked in, in a copy without the hidden cases.
+    let file = dir.join("sam.rs");
+    write(&file, &cheat);
+    let reports = dir.join("reports");
+    let class = Command::new(env!("CARGO_BIN_EXE_reference"))
+        .arg("class")
+        .arg(&file)
+        .arg("--out")
+        .arg(&reports)
+        .arg("--build-dir")
+        .arg(class_build_dir())
+        .args(["--timeout", "2", "--budget", "120", "-q"])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let class_out = String::from_utf8_lossy(&class.stdout);
+    let class_err = String::from_utf8_lossy(&class.stderr);
+    assert!(
+        class_out.contains("sam ") && class_out.contains("does not compile"),
+        "{class_out}\n{class_err}"
+    );
+    let log = std::fs::read_to_string(reports.join("sam.log")).unwrap();
+    assert!(
+        log.contains("couldn't read")
+            && log.contains("fixtures/hidden/")
+            && log.contains("No such file or directory"),
+        "{log}"
+    );
+    assert!(
+        !all_reports(&reports).contains("\"expected\""),
+        "a hidden case leaked"
+    );
+    let summary = std::fs::read_to_string(reports.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 2, "one row: {summary}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -2067,12 +2263,13 @@ fn without_landlock_class_builds_run_as_nobody_on_a_private_copy() {
     );
     assert!(
         ken_log.contains(&format!(
-            "couldn't read `{}`: Permission denied",
+            "couldn't read `{}`: No such file or directory",
             ta_file.0.display()
         )),
         "{ken_log}"
     );
     assert!(ken_log.contains("Landlock off"), "{ken_log}");
+    assert!(ken_log.contains("empty root"), "{ken_log}");
     assert!(ken_log.contains(", user nobody"), "{ken_log}");
     assert!(
         !all_reports(&out).contains(&ta_token),

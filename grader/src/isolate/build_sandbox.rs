@@ -82,6 +82,9 @@ pub struct Build {
     pub drop_user: bool,
     /// Apply Landlock (off only to test what a kernel without it leaves).
     pub landlock: bool,
+    /// Give the build a root of its own holding only what it needs (off
+    /// only to test what a machine without mount namespaces leaves).
+    pub empty_root: bool,
 }
 
 impl Build {
@@ -107,6 +110,8 @@ impl Build {
             if self.drop_user { "nobody" } else { "same" }.into(),
             "--landlock".into(),
             if self.landlock { "on" } else { "off" }.into(),
+            "--root".into(),
+            if self.empty_root { "empty" } else { "host" }.into(),
         ]);
         args
     }
@@ -122,6 +127,7 @@ impl Build {
             status: PathBuf::new(),
             drop_user: false,
             landlock: true,
+            empty_root: true,
         };
         let mut it = args.iter();
         while let Some(key) = it.next() {
@@ -140,6 +146,7 @@ impl Build {
                 "--seconds" => build.seconds = text.parse().map_err(|_| number("--seconds"))?,
                 "--user" => build.drop_user = text == "nobody",
                 "--landlock" => build.landlock = text != "off",
+                "--root" => build.empty_root = text != "host",
                 other => return Err(format!("unknown option {other}")),
             }
         }
@@ -247,6 +254,9 @@ pub struct Report {
     pub network: String,
     /// `nobody` or the caller's user.
     pub user: String,
+    /// `empty` (the build's own root: nothing else even seen to exist) or
+    /// `host` (the machine's tree, Landlock's rules alone).
+    pub root: String,
     pub memory: u64,
     pub seconds: f64,
     /// The largest resident size of any process of the build, in KiB.
@@ -283,6 +293,7 @@ impl Report {
             landlock: field("landlock").parse().unwrap_or(0),
             network: field("network"),
             user: field("user"),
+            root: field("root"),
             memory: field("memory").parse().unwrap_or(0),
             seconds: field("seconds").parse().unwrap_or(0.0),
             peak_kib: field("peak_kib").parse().unwrap_or(0),
@@ -292,13 +303,14 @@ impl Report {
 
     fn write(&self, path: &Path) -> std::io::Result<()> {
         let text = format!(
-            "outcome={}\nexit={}\nlandlock={}\nnetwork={}\nuser={}\nmemory={}\nseconds={}\n\
-             peak_kib={}\nerror={}\nmessage={}\nprotections={}\n",
+            "outcome={}\nexit={}\nlandlock={}\nnetwork={}\nuser={}\nroot={}\nmemory={}\n\
+             seconds={}\npeak_kib={}\nerror={}\nmessage={}\nprotections={}\n",
             self.outcome.word(),
             self.exit.map(|c| c.to_string()).unwrap_or_default(),
             self.landlock,
             self.network,
             self.user,
+            self.root,
             self.memory,
             self.seconds,
             self.peak_kib,
@@ -357,9 +369,13 @@ impl Report {
         } else {
             ""
         };
+        let root = match self.root.as_str() {
+            "empty" => "empty root (no other file even seen to exist)",
+            _ => "machine's files seen to exist (no mount namespace here)",
+        };
         format!(
-            "build protections: {files}, {network}, memory cap {} per process, time limit {} s, \
-             own session, environment {}{user}",
+            "build protections: {files}, {network}, {root}, memory cap {} per process, time \
+             limit {} s, own session, environment {}{user}",
             crate::isolate::sandbox::format_bytes(self.memory),
             self.seconds,
             ENV_NAMES.join(" ")
@@ -456,6 +472,7 @@ fn supervise(build: &Build) -> i32 {
         landlock: 0,
         network: String::new(),
         user: String::new(),
+        root: String::new(),
         memory: build.memory,
         seconds: build.seconds,
         peak_kib: 0,
@@ -525,7 +542,7 @@ fn supervise(build: &Build) -> i32 {
             libc::dup2(errors_w, 2);
             libc::close(errors_w);
         }
-        let message = match lock_in(build, parent) {
+        let message = match lock_in(build, parent, status_w) {
             Ok(line) => line,
             Err(e) => format!("error={e}"),
         };
@@ -616,6 +633,7 @@ fn supervise(build: &Build) -> i32 {
     report.landlock = field("landlock").and_then(|v| v.parse().ok()).unwrap_or(0);
     report.network = field("network").unwrap_or_default();
     report.user = field("user").unwrap_or_default();
+    report.root = field("root").unwrap_or_default();
     let exit = libc::WIFEXITED(wait_status).then(|| libc::WEXITSTATUS(wait_status));
     report.exit = if timed_out { None } else { exit };
     report.outcome = match (timed_out, exit) {
@@ -710,8 +728,10 @@ fn write_all(fd: i32, mut bytes: &[u8]) {
 use crate::isolate::sandbox::set_limit;
 
 /// The child's lock-in, before cargo is `exec`ed: the status line for the
-/// launcher (`landlock=6 network=namespace user=nobody`).
-fn lock_in(build: &Build, parent: libc::pid_t) -> Result<String, String> {
+/// launcher (`landlock=6 network=namespace user=nobody root=empty`).
+/// `status` is the status pipe, which a process of the lock-in that stays
+/// behind (waiting outside a PID namespace) lets go of.
+fn lock_in(build: &Build, parent: libc::pid_t, status: i32) -> Result<String, String> {
     // SAFETY: plain system calls on this (single-threaded) process.
     unsafe {
         if libc::setsid() < 0 {
@@ -737,7 +757,21 @@ fn lock_in(build: &Build, parent: libc::pid_t) -> Result<String, String> {
             libc::close(fd);
         }
     }
-    let network = own_network();
+    // Asked before the empty root hides /etc/passwd.
+    let caller = user_name();
+    let spaces = own_namespaces();
+    if spaces.pid {
+        // This process waits outside the new PID namespace; its child, the
+        // namespace's first process, goes on to lock itself in and run
+        // cargo (killed, with all it started, when this one is).
+        wait_outside(status)?;
+    }
+    let rooted = if build.empty_root && spaces.mount && spaces.pid {
+        empty_root(build)?
+    } else {
+        false
+    };
+    let network = spaces.network;
     set_limit(libc::RLIMIT_AS, build.memory)?;
     // The largest file a build writes is a debug binary of tens of MiB.
     set_limit(libc::RLIMIT_FSIZE, 2 << 30)?;
@@ -765,7 +799,7 @@ fn lock_in(build: &Build, parent: libc::pid_t) -> Result<String, String> {
         }
         "nobody".to_string()
     } else {
-        user_name()
+        caller
     };
     let abi = if build.landlock { landlock(build)? } else { 0 };
     let network = match network {
@@ -780,7 +814,10 @@ fn lock_in(build: &Build, parent: libc::pid_t) -> Result<String, String> {
         const CLOSE_RANGE_CLOEXEC: u32 = 1 << 2;
         libc::syscall(libc::SYS_close_range, 3u32, u32::MAX, CLOSE_RANGE_CLOEXEC);
     }
-    Ok(format!("landlock={abi}\nnetwork={network}\nuser={user}\n"))
+    let root = if rooted { "empty" } else { "host" };
+    Ok(format!(
+        "landlock={abi}\nnetwork={network}\nuser={user}\nroot={root}\n"
+    ))
 }
 
 /// This process's user's name, for the protections line.
@@ -798,31 +835,347 @@ fn user_name() -> String {
     }
 }
 
-/// A network namespace of its own (no interface but a loopback that is
-/// down): as root directly, otherwise inside a new user namespace mapping
-/// this user to itself. Whether it got one.
+/// The namespaces the build got: a network namespace (no interface but a
+/// loopback that is down), and mount and PID namespaces for the empty
+/// root (a PID namespace for a `/proc` that shows the build's processes
+/// only: rustc finds its libraries through `/proc/self/exe`).
+#[derive(Clone, Copy, Default)]
+struct Spaces {
+    network: bool,
+    mount: bool,
+    pid: bool,
+}
+
+/// Namespaces of its own: as root directly, otherwise inside a new user
+/// namespace mapping this user to itself (tried first in a throwaway
+/// process: where a user namespace can be made but not mapped, this one
+/// must not be left in it). The most it can get, down to none.
 #[cfg(target_os = "linux")]
-fn own_network() -> bool {
-    // SAFETY: plain system calls on this process.
+fn own_namespaces() -> Spaces {
+    let all = libc::CLONE_NEWNET | libc::CLONE_NEWNS | libc::CLONE_NEWPID;
+    // SAFETY: plain system calls on this (single-threaded) process.
     unsafe {
-        if libc::unshare(libc::CLONE_NEWNET) == 0 {
-            return true;
+        if libc::geteuid() == 0 {
+            if libc::unshare(all) == 0 {
+                return Spaces {
+                    network: true,
+                    mount: true,
+                    pid: true,
+                };
+            }
+            return Spaces {
+                network: libc::unshare(libc::CLONE_NEWNET) == 0,
+                ..Spaces::default()
+            };
         }
-        let (uid, gid) = (libc::geteuid(), libc::getegid());
-        if libc::unshare(libc::CLONE_NEWUSER | libc::CLONE_NEWNET) != 0 {
-            return false;
-        }
-        let ok = std::fs::write("/proc/self/setgroups", "deny").is_ok()
-            && std::fs::write("/proc/self/uid_map", format!("{uid} {uid} 1")).is_ok()
-            && std::fs::write("/proc/self/gid_map", format!("{gid} {gid} 1")).is_ok();
-        ok
     }
+    // SAFETY: plain system calls.
+    let (uid, gid) = unsafe { (libc::geteuid(), libc::getegid()) };
+    let maps = [
+        ("/proc/self/setgroups", "deny".to_string()),
+        ("/proc/self/uid_map", format!("{uid} {uid} 1")),
+        ("/proc/self/gid_map", format!("{gid} {gid} 1")),
+    ];
+    let enter = |flags: libc::c_int| {
+        // SAFETY: a plain system call.
+        (unsafe { libc::unshare(libc::CLONE_NEWUSER | flags) } == 0)
+            && maps.iter().all(|(f, t)| std::fs::write(f, t).is_ok())
+    };
+    let works = |flags: libc::c_int| match crate::isolate::sandbox::fork() {
+        Ok(0) => {
+            let ok = enter(flags);
+            // SAFETY: ends the throwaway process.
+            unsafe { libc::_exit(if ok { 0 } else { 1 }) }
+        }
+        Ok(probe) => crate::isolate::sandbox::wait_for(probe) == Some(0),
+        Err(_) => false,
+    };
+    for (flags, got) in [
+        (
+            all,
+            Spaces {
+                network: true,
+                mount: true,
+                pid: true,
+            },
+        ),
+        (
+            libc::CLONE_NEWNET,
+            Spaces {
+                network: true,
+                ..Spaces::default()
+            },
+        ),
+    ] {
+        if works(flags) {
+            return if enter(flags) { got } else { Spaces::default() };
+        }
+    }
+    Spaces::default()
 }
 
 #[cfg(not(target_os = "linux"))]
-fn own_network() -> bool {
-    false
+fn own_namespaces() -> Spaces {
+    Spaces::default()
 }
+
+/// In a new PID namespace: forks its first process, which returns and goes
+/// on; this one lets go of the status pipe and its standard streams, waits
+/// for it and ends as it ended (the launcher reads cargo's status from
+/// this process's).
+#[cfg(target_os = "linux")]
+fn wait_outside(status: i32) -> Result<(), String> {
+    let first = crate::isolate::sandbox::fork()?;
+    if first == 0 {
+        // SAFETY: a plain prctl call. Its parent is this process's waiter.
+        unsafe {
+            libc::prctl(
+                libc::PR_SET_PDEATHSIG,
+                libc::SIGKILL as libc::c_ulong,
+                0,
+                0,
+                0,
+            );
+        }
+        return Ok(());
+    }
+    // SAFETY: plain system calls on our own descriptor table.
+    unsafe {
+        libc::close(status);
+        let null = libc::open(c"/dev/null".as_ptr(), libc::O_RDWR);
+        for fd in [0, 1, 2] {
+            libc::dup2(null, fd);
+        }
+        if null > 2 {
+            libc::close(null);
+        }
+    }
+    let ended = crate::isolate::sandbox::wait_for(first).unwrap_or(libc::SIGKILL);
+    crate::isolate::sandbox::end_like(ended)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn wait_outside(_: i32) -> Result<(), String> {
+    Ok(())
+}
+
+/// How a path the build needs goes into its root.
+#[cfg(target_os = "linux")]
+enum Place {
+    /// A detached copy of its mount (`open_tree`), read-only or not.
+    Tree(std::os::fd::OwnedFd, bool, bool),
+    /// The same symbolic link (`/bin -> usr/bin`).
+    Link(PathBuf),
+}
+
+/// Where a path of the new root is inside the folder `new` it is built in.
+fn inside(new: &Path, path: &Path) -> PathBuf {
+    new.join(path.strip_prefix("/").unwrap_or(path))
+}
+
+/// Gives the build (its PID namespace's first process, still privileged
+/// there) a mount namespace whose root is a fresh tmpfs holding only what
+/// the build needs, each at its own path: the toolchain, the vendored
+/// crates, its copy of the lab (read-only), its target folder (the one it
+/// may write), the system's programs and libraries (`/usr`, `/lib*`,
+/// `/bin`, `/sbin`), the loader's and the alternatives' files in `/etc`,
+/// `/dev/null` and a `/proc` of its own PID namespace. Landlock's rules
+/// stay as they are; this adds that what the build may not read, it cannot
+/// tell from what does not exist (`include_str!` of a hidden case and of a
+/// name nobody used fail alike: "No such file or directory").
+///
+/// Returns whether it did; where the kernel refuses a step before the
+/// switch, the machine's tree stays (and the status says so). A failure
+/// after the switch is an error: the root would be half made.
+#[cfg(target_os = "linux")]
+fn empty_root(build: &Build) -> Result<bool, String> {
+    use crate::isolate::sandbox::{cpath, mount, open_folders, os_error, remount_read_only};
+    use std::os::fd::{AsRawFd, FromRawFd};
+    if mount(
+        None,
+        Path::new("/"),
+        None,
+        libc::MS_REC | libc::MS_PRIVATE,
+        None,
+    )
+    .is_err()
+    {
+        return Ok(false);
+    }
+    // (path, read-only, the build's own): the build's own folders are
+    // named to cargo by these paths, so each must be its own path, no link
+    // on the way.
+    let mut wanted: Vec<(PathBuf, bool, bool)> = vec![
+        (build.sysroot.clone(), true, true),
+        (build.vendor.clone(), true, true),
+        (build.lab.clone(), true, true),
+        (build.target.clone(), false, true),
+    ];
+    for path in SYSTEM_PATHS {
+        wanted.push((PathBuf::from(path), true, false));
+    }
+    wanted.push((PathBuf::from("/dev/null"), false, false));
+    for (path, _, own) in &wanted {
+        if *own && std::fs::canonicalize(path).ok().as_deref() != Some(path.as_path()) {
+            return Ok(false);
+        }
+    }
+    wanted.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut places: Vec<(PathBuf, Place)> = Vec::new();
+    for (path, read_only, _) in wanted {
+        // Inside a folder already bound (a toolchain under /usr): there
+        // with it.
+        let covered = places.iter().any(|(p, place)| {
+            matches!(place, Place::Tree(_, _, true)) && path.starts_with(p) && path != *p
+        });
+        if covered {
+            continue;
+        }
+        let Ok(meta) = std::fs::symlink_metadata(&path) else {
+            continue;
+        };
+        if meta.file_type().is_symlink() {
+            let Ok(to) = std::fs::read_link(&path) else {
+                return Ok(false);
+            };
+            places.push((path, Place::Link(to)));
+            continue;
+        }
+        const OPEN_TREE_CLONE: libc::c_uint = 1;
+        const AT_RECURSIVE: libc::c_uint = 0x8000;
+        // SAFETY: a plain system call on a C string we own; the descriptor
+        // it returns is ours.
+        let fd = unsafe {
+            libc::syscall(
+                libc::SYS_open_tree,
+                libc::AT_FDCWD,
+                cpath(&path)?.as_ptr(),
+                OPEN_TREE_CLONE | AT_RECURSIVE | libc::O_CLOEXEC as libc::c_uint,
+            )
+        };
+        if fd < 0 {
+            return Ok(false);
+        }
+        // SAFETY: the descriptor was just returned to us.
+        let tree = unsafe { std::os::fd::OwnedFd::from_raw_fd(fd as i32) };
+        places.push((path, Place::Tree(tree, read_only, meta.is_dir())));
+    }
+    // The fresh root, mounted on the target folder (whose copy is taken
+    // above): a folder that exists and that nothing else is under.
+    let new = build.target.clone();
+    if mount(
+        Some(Path::new("tmpfs")),
+        &new,
+        Some("tmpfs"),
+        libc::MS_NOSUID | libc::MS_NODEV,
+        Some("size=1m,mode=0755"),
+    )
+    .is_err()
+    {
+        return Ok(false);
+    }
+    let furnish = || -> Result<(), String> {
+        for (path, place) in &places {
+            let at = inside(&new, path);
+            if let Some(parent) = at.parent() {
+                open_folders(&new, parent)?;
+            }
+            match place {
+                Place::Link(to) => std::os::unix::fs::symlink(to, &at)
+                    .map_err(|e| format!("symlink {}: {e}", at.display()))?,
+                Place::Tree(tree, _, is_dir) => {
+                    if *is_dir {
+                        open_folders(&new, &at)?;
+                    } else {
+                        std::fs::File::create(&at)
+                            .map_err(|e| format!("create {}: {e}", at.display()))?;
+                    }
+                    const MOVE_MOUNT_F_EMPTY_PATH: libc::c_uint = 0x4;
+                    // SAFETY: a plain system call on our descriptor and a C
+                    // string we own.
+                    if unsafe {
+                        libc::syscall(
+                            libc::SYS_move_mount,
+                            tree.as_raw_fd(),
+                            c"".as_ptr(),
+                            libc::AT_FDCWD,
+                            cpath(&at)?.as_ptr(),
+                            MOVE_MOUNT_F_EMPTY_PATH,
+                        )
+                    } != 0
+                    {
+                        return Err(os_error(&format!("move_mount {}", at.display())));
+                    }
+                }
+            }
+        }
+        let proc = new.join("proc");
+        open_folders(&new, &proc)?;
+        mount(
+            Some(Path::new("proc")),
+            &proc,
+            Some("proc"),
+            libc::MS_NOSUID | libc::MS_NODEV | libc::MS_NOEXEC,
+            None,
+        )
+    };
+    let dot = c".";
+    // SAFETY: plain system calls on C strings we own. `pivot_root(".",
+    // ".")` stacks the old root on the new one; detaching it leaves only
+    // the new.
+    let switched = furnish().is_ok()
+        && unsafe {
+            libc::chdir(cpath(&new)?.as_ptr()) == 0
+                && libc::syscall(libc::SYS_pivot_root, dot.as_ptr(), dot.as_ptr()) == 0
+        };
+    if !switched {
+        // SAFETY: plain system calls: back to the machine's tree, whole.
+        unsafe {
+            libc::chdir(c"/".as_ptr());
+            libc::umount2(cpath(&new)?.as_ptr(), libc::MNT_DETACH);
+        }
+        return Ok(false);
+    }
+    // SAFETY: as above.
+    unsafe {
+        if libc::umount2(dot.as_ptr(), libc::MNT_DETACH) != 0 || libc::chdir(c"/".as_ptr()) != 0 {
+            return Err(os_error("cannot let go of the old root"));
+        }
+    }
+    mount(
+        None,
+        Path::new("/"),
+        None,
+        libc::MS_BIND | libc::MS_REMOUNT | libc::MS_RDONLY | libc::MS_NOSUID | libc::MS_NODEV,
+        None,
+    )?;
+    for (path, place) in &places {
+        if let Place::Tree(_, true, _) = place {
+            remount_read_only(path)?;
+        }
+    }
+    Ok(true)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn empty_root(_: &Build) -> Result<bool, String> {
+    Ok(false)
+}
+
+/// The system's paths the build reads (Landlock's rules name the same):
+/// the compilers, linkers and libraries, the loader's files, and the
+/// alternatives the system's `cc` is a link through.
+const SYSTEM_PATHS: [&str; 9] = [
+    "/usr",
+    "/lib",
+    "/lib64",
+    "/bin",
+    "/sbin",
+    "/etc/ld.so.cache",
+    "/etc/ld.so.conf",
+    "/etc/ld.so.conf.d",
+    "/etc/alternatives",
+];
 
 #[cfg(not(target_os = "linux"))]
 fn landlock(_: &Build) -> Result<i32, String> {
@@ -895,6 +1248,7 @@ mod tests {
             status: "/tmp/status".into(),
             drop_user: true,
             landlock: false,
+            empty_root: false,
         }
     }
 
@@ -928,6 +1282,7 @@ mod tests {
             landlock: 6,
             network: "namespace".into(),
             user: "nobody".into(),
+            root: "empty".into(),
             memory: 4 << 30,
             seconds: 60.0,
             peak_kib: 1,
@@ -943,6 +1298,17 @@ mod tests {
         assert_eq!(r.failure(), None);
         let line = r.protections();
         assert!(line.contains("Landlock ABI 6") && line.contains("own network namespace"));
+        assert!(
+            line.contains("empty root (no other file even seen to exist)"),
+            "{line}"
+        );
+        r.root = "host".into();
+        assert!(
+            r.protections()
+                .contains("machine's files seen to exist (no mount namespace here)"),
+            "{}",
+            r.protections()
+        );
         r.landlock = 0;
         assert!(
             r.protections().contains("Landlock off"),

@@ -65,8 +65,13 @@ pub struct ChildReport {
     pub output: String,
     /// The launcher's description of the protections in force.
     pub sandbox: Option<String>,
-    /// The CPU time of the call, as the child reported it (none when it
-    /// did not finish).
+    /// The CPU time of the call, from the request sent to the result read
+    /// (the child decoding the request, building the mesh, the call and
+    /// sending the result back), read by the grader from the kernel's
+    /// accounting of the child process: only in a timed session
+    /// ([`Session::timed`]), none when the call did not finish or the child
+    /// could not be found. Never a clock of the child's own: a student's
+    /// `clock_gettime` replaces libc's in the child.
     pub cpu: Option<Duration>,
     /// The mesh the function left, when it came back with one (a return
     /// or a sequence), as it was sent back.
@@ -93,12 +98,18 @@ impl ChildReport {
 enum Event {
     /// The launcher's report of the protections in force.
     Sandbox(String),
+    /// The child program waits for its first request.
+    Ready,
     /// A call started: its clock starts.
     Started,
-    /// The CPU time of the call that just ended.
-    Cpu(Duration),
     /// A call's whole result frame.
     Result(Vec<u8>),
+    /// The launcher could not start the child program (with the nonce it
+    /// was given, if the frame is its own).
+    LaunchFailed {
+        nonce: [u8; wire::NONCE_LEN],
+        why: String,
+    },
     /// A result frame announced this many bytes, more than allowed.
     TooLarge(usize),
     /// The channel held something that is not a frame.
@@ -321,6 +332,7 @@ fn watch_frames(
                                 Err(e) => Event::Garbled(e.to_string()),
                             },
                             wire::STARTED_TAG => Event::Started,
+                            wire::READY_TAG => Event::Ready,
                             wire::RESULT_TAG => {
                                 if len > cap.load(Ordering::Relaxed) {
                                     Event::TooLarge(len)
@@ -330,7 +342,9 @@ fn watch_frames(
                             }
                             _ => match wire::decode_frames(&frame) {
                                 Ok(mut f) => match f.pop() {
-                                    Some(Frame::CpuTime(t)) => Event::Cpu(t),
+                                    Some(Frame::LaunchFailed { nonce, why }) => {
+                                        Event::LaunchFailed { nonce, why }
+                                    }
                                     _ => Event::Garbled("an unexpected frame".into()),
                                 },
                                 Err(e) => Event::Garbled(e.to_string()),
@@ -525,6 +539,13 @@ struct Live {
     status: Option<ExitStatus>,
     /// Calls it has served.
     served: usize,
+    /// What the launcher must send with a failure of its own (see
+    /// [`wire::Frame::LaunchFailed`]).
+    nonce: [u8; wire::NONCE_LEN],
+    /// The child program said it waits for its first request.
+    ready: bool,
+    /// The kernel's CPU-time clock of the child process, once found.
+    clock: Option<CpuClock>,
 }
 
 impl Live {
@@ -560,6 +581,9 @@ impl Live {
         } = started;
         let (tx, events) = mpsc::channel();
         let (requests, queued) = mpsc::channel::<Vec<u8>>();
+        // The launcher's nonce goes first, before any request.
+        let nonce = nonce();
+        let _ = requests.send(nonce.to_vec());
         thread::spawn(move || {
             // Fails harmlessly if the child never reads them.
             for request in queued {
@@ -585,6 +609,9 @@ impl Live {
             sandbox: None,
             status: None,
             served: 0,
+            nonce,
+            ready: false,
+            clock: None,
         }))
     }
 
@@ -624,6 +651,8 @@ pub struct Session<'a> {
     live: Option<Live>,
     /// Whether the last call ran in a child that served no call before it.
     fresh: bool,
+    /// Whether each call's CPU time is measured ([`Session::timed`]).
+    timing: bool,
 }
 
 impl<'a> Session<'a> {
@@ -634,7 +663,19 @@ impl<'a> Session<'a> {
             limits,
             live: None,
             fresh: true,
+            timing: false,
         }
+    }
+
+    /// A session whose calls are timed ([`ChildReport::cpu`]): a fresh
+    /// child gets its request only once it says it is ready, so that what
+    /// is counted, from the request sent to the result read, is the call's
+    /// work (with the child's decoding and encoding of the mesh), not the
+    /// program's start.
+    pub fn timed(program: &'a ChildProgram, limits: &'a Limits) -> Session<'a> {
+        let mut session = Session::new(program, limits);
+        session.timing = true;
+        session
     }
 
     /// Whether the last call ran in a child of its own (no call before it
@@ -669,13 +710,26 @@ impl<'a> Session<'a> {
         self.fresh = live.served == 0;
         live.served += 1;
         live.cap.store(max_result, Ordering::Relaxed);
-        if let Some(requests) = &live.requests {
-            let _ = requests.send(wire::framed_request(request, record));
+        // A timed call goes to a child that is ready, the clock read just
+        // before it is sent; any other goes at once.
+        let mut pending = Some(wire::framed_request(request, record));
+        let mut cpu_start: Option<Duration> = None;
+        let send =
+            |live: &Live, pending: &mut Option<Vec<u8>>, cpu_start: &mut Option<Duration>| {
+                if self.timing {
+                    *cpu_start = live.clock.and_then(CpuClock::now);
+                }
+                if let (Some(requests), Some(bytes)) = (&live.requests, pending.take()) {
+                    let _ = requests.send(bytes);
+                }
+            };
+        if !self.timing || live.ready {
+            send(&live, &mut pending, &mut cpu_start);
         }
         let begun = Instant::now();
         let mut started: Option<Instant> = None;
         let mut result: Option<Vec<u8>> = None;
-        let mut cpu = None;
+        let mut cpu_end: Option<Duration> = None;
         let mut garbled: Option<String> = None;
         let mut limit_hit: Option<CaseEnd> = None;
         let mut stream_ended = false;
@@ -693,10 +747,37 @@ impl<'a> Session<'a> {
                 .events
                 .recv_timeout(deadline.saturating_duration_since(Instant::now()))
             {
-                Ok(Event::Sandbox(s)) => live.sandbox = Some(s),
+                // The launcher's report is the first frame, before any
+                // student code runs: a later one is the student's.
+                Ok(Event::Sandbox(s)) if live.sandbox.is_none() => {
+                    live.clock = CpuClock::of_child(&s, live.pid);
+                    live.sandbox = Some(s);
+                }
+                Ok(Event::Sandbox(_)) => {
+                    live.requests = None;
+                    garbled.get_or_insert("a second launcher report".into());
+                }
+                Ok(Event::Ready) => {
+                    live.ready = true;
+                    send(&live, &mut pending, &mut cpu_start);
+                }
                 Ok(Event::Started) => started = Some(Instant::now()),
-                Ok(Event::Cpu(t)) => cpu = Some(t),
-                Ok(Event::Result(bytes)) => result = Some(bytes),
+                Ok(Event::Result(bytes)) => {
+                    if self.timing {
+                        cpu_end = live.clock.and_then(CpuClock::now);
+                    }
+                    result = Some(bytes);
+                }
+                Ok(Event::LaunchFailed { nonce, why }) if nonce == live.nonce => {
+                    // The launcher's own: the machine's failure, never the
+                    // student's.
+                    kill_group(live.pid);
+                    limit_hit = Some(CaseEnd::SandboxFailed { why });
+                }
+                Ok(Event::LaunchFailed { .. }) => {
+                    live.requests = None;
+                    garbled.get_or_insert("a forged launcher failure".into());
+                }
                 Ok(Event::TooLarge(n)) => {
                     kill_group(live.pid);
                     limit_hit = Some(CaseEnd::TooLarge { bytes: n });
@@ -766,6 +847,10 @@ impl<'a> Session<'a> {
         if came_back {
             self.live = Some(live);
         }
+        let cpu = match (cpu_start, cpu_end) {
+            (Some(a), Some(b)) if came_back && b > a => Some(b - a),
+            _ => None,
+        };
         Ok(ChildReport {
             end,
             output: strip_notices(&output),
@@ -781,6 +866,108 @@ impl Drop for Session<'_> {
     fn drop(&mut self) {
         self.restart();
     }
+}
+
+/// Random bytes no student code can hold: from the standard library's
+/// per-process random keys (seeded by the operating system), the time and
+/// a counter.
+fn nonce() -> [u8; wire::NONCE_LEN] {
+    use std::hash::{BuildHasher, Hasher};
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNT.fetch_add(1, Ordering::Relaxed);
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let mut out = [0u8; wire::NONCE_LEN];
+    for (i, chunk) in out.chunks_mut(8).enumerate() {
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_usize(n);
+        h.write_usize(i);
+        h.write_u128(stamp);
+        h.write_u32(std::process::id());
+        chunk.copy_from_slice(&h.finish().to_le_bytes()[..chunk.len()]);
+    }
+    out
+}
+
+/// The kernel's CPU-time clock of a case's child process
+/// (`clock_getcpuclockid`: the CPU time of all its threads, ended ones
+/// included), read by the grader: nothing in the child can change it.
+#[derive(Clone, Copy, Debug)]
+struct CpuClock {
+    #[cfg(target_os = "linux")]
+    id: libc::clockid_t,
+}
+
+impl CpuClock {
+    /// The clock of the child the launcher `launcher` started, by the id
+    /// its report names (`pid=`, read by the launcher before the child
+    /// program ran), checked against the process tree: in a PID namespace
+    /// the child is the launcher's grandchild (under the namespace's
+    /// init), elsewhere the launcher itself, `exec`ed. `None` where it
+    /// cannot be found (then nothing is timed).
+    #[cfg(target_os = "linux")]
+    fn of_child(status: &str, launcher: u32) -> Option<CpuClock> {
+        let field = |key: &str| {
+            status
+                .split_whitespace()
+                .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+        };
+        let pid: u32 = field("pid")?.parse().ok()?;
+        let found = if field("pidns") == Some("1") {
+            parent_of(pid).and_then(parent_of) == Some(launcher)
+        } else {
+            pid == launcher
+        };
+        if !found {
+            return None;
+        }
+        let mut id: libc::clockid_t = 0;
+        // SAFETY: writes the clock id into our own variable.
+        if unsafe { libc::clock_getcpuclockid(pid as libc::pid_t, &mut id) } != 0 {
+            return None;
+        }
+        Some(CpuClock { id })
+    }
+
+    #[cfg(not(target_os = "linux"))]
+    fn of_child(_: &str, _: u32) -> Option<CpuClock> {
+        None
+    }
+
+    /// The CPU time the process has used, `None` once it is gone.
+    #[cfg(target_os = "linux")]
+    fn now(self) -> Option<Duration> {
+        let mut t = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: clock_gettime writes the timespec it is given.
+        if unsafe { libc::clock_gettime(self.id, &mut t) } != 0 {
+            return None;
+        }
+        Some(Duration::new(
+            t.tv_sec.max(0) as u64,
+            t.tv_nsec.clamp(0, 999_999_999) as u32,
+        ))
+    }
+
+    #[cfg(not(target_os = "linux"))]
+    fn now(self) -> Option<Duration> {
+        None
+    }
+}
+
+/// The parent of process `pid`, from `/proc/PID/stat`.
+fn parent_of(pid: u32) -> Option<u32> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // "pid (comm) state ppid ...": comm may hold spaces and parens.
+    stat.rsplit_once(')')?
+        .1
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()
 }
 
 /// Runs one request in a sandboxed child of its own (`record`: ask it to

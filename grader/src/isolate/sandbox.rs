@@ -308,7 +308,7 @@ fn landlock(program: &std::fs::File) -> Result<i32, String> {
 /// `/dev/null`: never a terminal, whatever started the grader.
 pub const REQUEST_FD: i32 = 3;
 
-fn os_error(what: &str) -> String {
+pub(crate) fn os_error(what: &str) -> String {
     format!("{what}: {}", std::io::Error::last_os_error())
 }
 
@@ -456,7 +456,7 @@ fn enter_pid_namespace() -> Result<bool, String> {
 }
 
 #[cfg(target_os = "linux")]
-fn fork() -> Result<libc::pid_t, String> {
+pub(crate) fn fork() -> Result<libc::pid_t, String> {
     // SAFETY: the launcher has one thread; both sides go on with plain
     // system calls and its own code.
     match unsafe { libc::fork() } {
@@ -467,7 +467,7 @@ fn fork() -> Result<libc::pid_t, String> {
 
 #[cfg(target_os = "linux")]
 /// Waits for `pid` (retrying on interruption) and returns its wait status.
-fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
+pub(crate) fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
     let mut status = 0;
     loop {
         // SAFETY: waits for our own child, into our own int.
@@ -484,7 +484,7 @@ fn wait_for(pid: libc::pid_t) -> Option<libc::c_int> {
 #[cfg(target_os = "linux")]
 /// Ends this process the way `status` says another ended: the same exit
 /// code, or the same signal (no core file: the limit is 0).
-fn end_like(status: libc::c_int) -> ! {
+pub(crate) fn end_like(status: libc::c_int) -> ! {
     // SAFETY: plain system calls; the process ends here.
     unsafe {
         if libc::WIFSIGNALED(status) {
@@ -612,7 +612,7 @@ const SYSTEM_PATHS: [&str; 5] = [
 ];
 
 #[cfg(target_os = "linux")]
-fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
+pub(crate) fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
     use std::os::unix::ffi::OsStrExt;
     std::ffi::CString::new(path.as_os_str().as_bytes())
         .map_err(|_| format!("{} holds a NUL byte", path.display()))
@@ -620,7 +620,7 @@ fn cpath(path: &Path) -> Result<std::ffi::CString, String> {
 
 /// `mount(2)` with Rust arguments; `None` for a null pointer.
 #[cfg(target_os = "linux")]
-fn mount(
+pub(crate) fn mount(
     source: Option<&Path>,
     target: &Path,
     fstype: Option<&str>,
@@ -649,16 +649,30 @@ fn mount(
 }
 
 /// Binds `source` (a folder or a file) at `target`, read-only, no set-uid,
-/// no devices. The source mount's own locked flags (`noexec`, the access
-/// times) are kept: in a user namespace, a remount that drops them fails.
+/// no devices (see [`remount_read_only`]).
 #[cfg(target_os = "linux")]
 fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
+    mount(
+        Some(source),
+        target,
+        None,
+        libc::MS_BIND | libc::MS_REC,
+        None,
+    )?;
+    remount_read_only(target)
+}
+
+/// Remounts the bind mount at `target` read-only, no set-uid, no devices.
+/// Its own locked flags (`noexec`, the access times) are kept: in a user
+/// namespace, a remount that drops them fails.
+#[cfg(target_os = "linux")]
+pub(crate) fn remount_read_only(target: &Path) -> Result<(), String> {
     let mut kept: libc::c_ulong = 0;
     // SAFETY: statvfs fills our own struct.
     unsafe {
         let mut st: libc::statvfs = std::mem::zeroed();
-        if libc::statvfs(cpath(source)?.as_ptr(), &mut st) != 0 {
-            return Err(os_error(&format!("statvfs {}", source.display())));
+        if libc::statvfs(cpath(target)?.as_ptr(), &mut st) != 0 {
+            return Err(os_error(&format!("statvfs {}", target.display())));
         }
         for (st_flag, ms_flag) in [
             (libc::ST_NOEXEC, libc::MS_NOEXEC),
@@ -672,13 +686,6 @@ fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
         }
     }
     mount(
-        Some(source),
-        target,
-        None,
-        libc::MS_BIND | libc::MS_REC,
-        None,
-    )?;
-    mount(
         None,
         target,
         None,
@@ -690,6 +697,27 @@ fn bind_read_only(source: &Path, target: &Path) -> Result<(), String> {
             | kept,
         None,
     )
+}
+
+/// Makes `dir` and every missing folder between `root` and it, each of
+/// mode 0755 whatever the umask (a root grader run with umask 077 would
+/// otherwise make folders `nobody` cannot enter, and the child's loader
+/// would be out of its reach).
+#[cfg(target_os = "linux")]
+pub(crate) fn open_folders(root: &Path, dir: &Path) -> Result<(), String> {
+    use std::os::unix::fs::PermissionsExt;
+    let rel = dir.strip_prefix(root).unwrap_or(dir);
+    let mut at = root.to_path_buf();
+    for part in rel.components() {
+        at.push(part);
+        match std::fs::create_dir(&at) {
+            Ok(()) => std::fs::set_permissions(&at, std::fs::Permissions::from_mode(0o755))
+                .map_err(|e| format!("chmod {}: {e}", at.display()))?,
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(format!("mkdir {}: {e}", at.display())),
+        }
+    }
+    Ok(())
 }
 
 /// Fills the fresh root mounted at `new`: the system's library folders
@@ -707,13 +735,13 @@ fn furnish_root(new: &Path, program_tree: &std::os::fd::OwnedFd) -> Result<(), S
         };
         let inside = new.join(host.strip_prefix("/").unwrap_or(host));
         if let Some(parent) = inside.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| fail("mkdir", e))?;
+            open_folders(new, parent)?;
         }
         if meta.file_type().is_symlink() {
             let to = std::fs::read_link(host).map_err(|e| fail("readlink", e))?;
             std::os::unix::fs::symlink(to, &inside).map_err(|e| fail("symlink", e))?;
         } else if meta.is_dir() {
-            std::fs::create_dir_all(&inside).map_err(|e| fail("mkdir", e))?;
+            open_folders(new, &inside)?;
             bind_read_only(host, &inside)?;
         } else {
             std::fs::File::create(&inside).map_err(|e| fail("create", e))?;
@@ -919,10 +947,60 @@ fn drop_capabilities() -> Result<(), String> {
     Ok(())
 }
 
+/// Reads the grader's nonce, the first [`wire::NONCE_LEN`] bytes on
+/// standard input (before any request).
+///
+/// [`wire::NONCE_LEN`]: crate::isolate::wire::NONCE_LEN
+fn read_nonce() -> Result<[u8; crate::isolate::wire::NONCE_LEN], String> {
+    let mut nonce = [0u8; crate::isolate::wire::NONCE_LEN];
+    let mut got = 0;
+    while got < nonce.len() {
+        // SAFETY: reads into the rest of our own array.
+        let n = unsafe { libc::read(0, nonce[got..].as_mut_ptr().cast(), nonce.len() - got) };
+        if n == 0 {
+            return Err("the grader is gone".into());
+        }
+        if n < 0 {
+            if std::io::Error::last_os_error().raw_os_error() == Some(libc::EINTR) {
+                continue;
+            }
+            return Err(os_error("cannot read the grader's nonce"));
+        }
+        got += n as usize;
+    }
+    Ok(nonce)
+}
+
+/// This process's id as the grader sees it: in a PID namespace of its
+/// own, the first of `NSpid` in `/proc/self/status` (the machine's
+/// `/proc`, before the empty root hides it, is of the grader's namespace);
+/// elsewhere its own id. `None` when it cannot be read.
+fn pid_seen_by_grader(namespace: bool) -> Option<u32> {
+    if !namespace {
+        return Some(std::process::id());
+    }
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("NSpid:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
 /// Locks this process in and `exec`s the child. Returns only on failure.
 fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     use std::io::Write;
     use std::os::fd::AsRawFd;
+    // What this launcher makes (the empty root's folders) gets the modes it
+    // asks for, whatever umask the grader was started with.
+    // SAFETY: a plain system call.
+    unsafe { libc::umask(0o022) };
+    let nonce = match read_nonce() {
+        Ok(n) => n,
+        Err(e) => return e,
+    };
     let early = || -> Result<(std::fs::File, bool), String> {
         move_request()?;
         own_session()?;
@@ -956,6 +1034,9 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     };
     // Not root, a PID namespace comes only with a user namespace.
     let user_namespace = namespace && !was_root;
+    // Read before the empty root hides the machine's /proc: the grader
+    // times the child by this id (its CPU time, from the kernel).
+    let pid = pid_seen_by_grader(namespace).map_or("?".to_string(), |p| p.to_string());
     // The empty root needs the PID namespace (its `/proc` shows only the
     // case's processes): without one, the machine's files stay visible.
     let (program, rooted) = match namespace.then(|| empty_root(&program)).transpose() {
@@ -1009,7 +1090,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         let filtered = crate::isolate::seccomp::apply()?;
         Ok(format!(
             "landlock={abi} memory={} user={} group=own session=own pidns={} root={} caps=0 \
-             seccomp={}",
+             seccomp={} pid={pid}",
             limits.memory,
             if dropped { "nobody" } else { "same" },
             u8::from(namespace),
@@ -1073,11 +1154,27 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     unsafe {
         libc::fexecve(program.as_raw_fd(), argv_p.as_ptr(), envp_p.as_ptr());
     }
-    format!(
-        "cannot start {}: {}",
+    let error = std::io::Error::last_os_error();
+    // SAFETY: geteuid only reads.
+    let user = if unsafe { libc::geteuid() } == NOBODY {
+        "nobody"
+    } else {
+        "the grader's"
+    };
+    let why = format!(
+        "cannot start the child program {}: {error} (can user {} run it: may it read the \
+         program and its dynamic loader and libraries, and is their file system mounted \
+         without noexec?)",
         child.display(),
-        std::io::Error::last_os_error()
-    )
+        user
+    );
+    // Said with the grader's nonce, which no student code can hold: this
+    // failure is the machine's, never the student's, though it comes after
+    // the report (student code that prints the same words is the student's).
+    let frame = crate::isolate::wire::launch_failed_frame(&nonce, &why);
+    let _ = std::io::stdout().write_all(&frame);
+    let _ = std::io::stdout().flush();
+    why
 }
 
 /// The protections in force, from the launcher's status frame, as the

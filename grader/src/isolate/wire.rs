@@ -3,12 +3,17 @@
 //! The parent sends a [`Request`]: the input mesh (every record, exactly as
 //! labelled), the operation and the growth budget. The child sends back
 //! frames: [`Frame::Sandbox`] (written by the launcher before the student's
-//! program starts), [`Frame::Started`] (just before the student's function
-//! is called: the time limit starts there), [`Frame::CpuTime`] (what the
-//! call cost), then one [`Frame::Result`]; a child serves several requests
-//! in turn, each sent length-first ([`framed_request`]), each answered by
-//! its own started, CPU time and result frames (the result length-first,
-//! see [`frame_at`]).
+//! program starts), [`Frame::Ready`] (the child program is up and waits for
+//! its first request), [`Frame::Started`] (just before the student's
+//! function is called: the time limit starts there), then one
+//! [`Frame::Result`]; a child serves several requests in turn, each sent
+//! length-first ([`framed_request`]), each answered by its own started and
+//! result frames (the result length-first, see [`frame_at`]). A launcher
+//! whose `exec` of the child program failed sends [`Frame::LaunchFailed`]
+//! instead, with the nonce the grader gave it (which no student code ever
+//! holds). No frame carries a time: the child's clock is the student's to
+//! replace (an interposed `clock_gettime`), so the grader reads the child's
+//! CPU time from the kernel itself (`runner`).
 //! A request may ask the child to record a subdivision (see
 //! `halfedge::recording`): the frames then come back inside the result.
 //!
@@ -134,19 +139,31 @@ pub enum Ran {
 pub enum Frame {
     /// The launcher's report of the protections it put in place.
     Sandbox(String),
+    /// The child program runs and waits for its first request (sent once,
+    /// by `serve`): a timed call's request is sent only then, so that the
+    /// CPU time the grader counts is the call's, not the program's start.
+    Ready,
     /// The student's function is about to be called.
     Started,
-    /// The CPU time the call took, as the child measured it (sent just
-    /// before the result; the scaling check reads it, nothing is judged by it).
-    CpuTime(std::time::Duration),
     Result(Ran),
+    /// The launcher could not `exec` the child program (after its report):
+    /// the nonce the grader sent it first on its stdin, and why.
+    LaunchFailed {
+        nonce: [u8; NONCE_LEN],
+        why: String,
+    },
 }
+
+/// The length of the nonce a grader sends its launcher (see
+/// [`Frame::LaunchFailed`]).
+pub const NONCE_LEN: usize = 16;
 
 const REQUEST_MAGIC: &[u8; 4] = b"MLQ1";
 const TAG_SANDBOX: u8 = b'L';
 const TAG_STARTED: u8 = b'S';
 const TAG_RESULT: u8 = b'R';
-const TAG_CPU: u8 = b'C';
+const TAG_READY: u8 = b'Y';
+const TAG_LAUNCH_FAILED: u8 = b'F';
 
 /// Why bytes could not be decoded.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -417,20 +434,19 @@ pub fn started_frame() -> Vec<u8> {
     vec![TAG_STARTED]
 }
 
-/// The frame with the CPU time of the call, sent before the result.
-pub fn cpu_frame(time: std::time::Duration) -> Vec<u8> {
-    let mut out = vec![TAG_CPU];
-    put_u64(&mut out, time.as_nanos().min(u64::MAX as u128) as u64);
-    out
+/// The frame the child program sends once, when it waits for its first
+/// request.
+pub fn ready_frame() -> Vec<u8> {
+    vec![TAG_READY]
 }
 
-/// The CPU time a child reported in its frames, if it did (a stream that
-/// does not decode reports none).
-pub fn reported_cpu_time(bytes: &[u8]) -> Option<std::time::Duration> {
-    decode_frames(bytes).ok()?.iter().find_map(|f| match f {
-        Frame::CpuTime(t) => Some(*t),
-        _ => None,
-    })
+/// The launcher's frame when the child program could not be started: the
+/// grader's nonce, then why (as [`sandbox_frame`] sends its text).
+pub fn launch_failed_frame(nonce: &[u8; NONCE_LEN], why: &str) -> Vec<u8> {
+    let mut out = vec![TAG_LAUNCH_FAILED];
+    put_str(&mut out, why);
+    out.extend_from_slice(nonce);
+    out
 }
 
 /// A call's last frame: the tag, the payload's length (so a reader of the
@@ -632,7 +648,12 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
         match r.u8()? {
             TAG_SANDBOX => frames.push(Frame::Sandbox(r.str()?)),
             TAG_STARTED => frames.push(Frame::Started),
-            TAG_CPU => frames.push(Frame::CpuTime(std::time::Duration::from_nanos(r.u64()?))),
+            TAG_READY => frames.push(Frame::Ready),
+            TAG_LAUNCH_FAILED => {
+                let why = r.str()?;
+                let nonce = r.take(NONCE_LEN)?.try_into().expect("NONCE_LEN bytes");
+                frames.push(Frame::LaunchFailed { nonce, why });
+            }
             TAG_RESULT => {
                 let n = r.u64()?;
                 let payload = r.take(usize::try_from(n).unwrap_or(usize::MAX))?;
@@ -724,10 +745,15 @@ pub fn frame_at(bytes: &[u8]) -> Result<Pending, WireError> {
         }
     };
     match tag {
-        TAG_STARTED => Ok(Pending::Whole(1)),
-        TAG_CPU => Ok(sized(9, Some(0))),
+        TAG_STARTED | TAG_READY => Ok(Pending::Whole(1)),
         TAG_SANDBOX => Ok(sized(
             5,
+            bytes
+                .get(1..5)
+                .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as u64),
+        )),
+        TAG_LAUNCH_FAILED => Ok(sized(
+            5 + NONCE_LEN,
             bytes
                 .get(1..5)
                 .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as u64),
@@ -759,9 +785,11 @@ pub fn framed_request(request: &Request, record: bool) -> Vec<u8> {
 /// it only moves printed text between calls: no verdict reads the output.
 pub const CALL_END: &[u8] = b"\x00meshlab: call ended\n";
 
-/// The tags of the launcher's frame and of the frame that starts the
-/// clock, for a reader that watches the stream as it arrives.
+/// The tags of the launcher's frame, of the frames that say the child is
+/// ready and that starts the clock, and of the result, for a reader that
+/// watches the stream as it arrives.
 pub const SANDBOX_TAG: u8 = TAG_SANDBOX;
+pub const READY_TAG: u8 = TAG_READY;
 pub const STARTED_TAG: u8 = TAG_STARTED;
 pub const RESULT_TAG: u8 = TAG_RESULT;
 
@@ -959,8 +987,8 @@ mod tests {
     fn frames_round_trip() {
         let mesh = unusual();
         let mut bytes = sandbox_frame("landlock v6");
+        bytes.extend(ready_frame());
         bytes.extend(started_frame());
-        bytes.extend(cpu_frame(std::time::Duration::from_micros(1500)));
         bytes.extend(result_frame(&Ran::Returned {
             answer: Answer::Edge(EdgeId(3)),
             mesh: mesh.clone(),
@@ -969,13 +997,17 @@ mod tests {
                 cut: Some(halfedge::recording::Cut::Bytes(1 << 25)),
             }),
         }));
+        let nonce = [7u8; NONCE_LEN];
+        bytes.extend(launch_failed_frame(&nonce, "cannot start /child"));
         let frames = decode_frames(&bytes).unwrap();
-        assert_eq!(
-            reported_cpu_time(&bytes),
-            Some(std::time::Duration::from_micros(1500))
-        );
         assert!(matches!(&frames[0], Frame::Sandbox(s) if s == "landlock v6"));
-        assert!(matches!(frames[1], Frame::Started));
+        assert!(matches!(frames[1], Frame::Ready));
+        assert!(matches!(frames[2], Frame::Started));
+        assert!(
+            matches!(&frames[4], Frame::LaunchFailed { nonce: n, why } if *n == nonce && why == "cannot start /child"),
+            "{:?}",
+            frames[4]
+        );
         match &frames[3] {
             Frame::Result(Ran::Returned {
                 answer,
@@ -1025,6 +1057,13 @@ mod tests {
         assert_eq!(frame_at(&stream), Ok(Pending::Whole(6)));
         assert_eq!(frame_at(&stream[6..]), Ok(Pending::Whole(1)));
         assert_eq!(frame_at(&stream[7..]), Ok(Pending::Whole(result.len())));
+        assert_eq!(frame_at(&ready_frame()), Ok(Pending::Whole(1)));
+        let failed = launch_failed_frame(&[1; NONCE_LEN], "why");
+        assert_eq!(frame_at(&failed), Ok(Pending::Whole(5 + NONCE_LEN + 3)));
+        assert_eq!(
+            frame_at(&failed[..6]),
+            Ok(Pending::Partial(Some(failed.len())))
+        );
         assert_eq!(frame_at(&result[..5]), Ok(Pending::Partial(None)));
         assert_eq!(
             frame_at(&result[..20]),

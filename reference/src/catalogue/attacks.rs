@@ -54,6 +54,7 @@ pub fn entries() -> Vec<Entry> {
         e("grader-memory", "reads the grader's memory through /proc/PID/mem, then makes the no-flip mistake", model().subdivide(grader_memory)),
         e("kernel-calls", "tries pidfds, kcmp, file handles, mount, personality, acct, swapon, reboot, perf_event_open, userfaultfd and keys, then makes the no-flip mistake", model().subdivide(kernel_calls)),
         e("fake-sandbox-failure", "prints the launcher's failure line and exits with its status", model().subdivide(fake_sandbox_failure)),
+        e("fake-launch-failure", "sends the launcher's frame for a child program that could not start (with a guessed nonce), prints its line and exits with its status", model().subdivide(fake_launch_failure)),
         e("lookup-table", "knows the answers to the visible (lab and bonus) cases by their input positions, nothing else", model().flip(lookup::flip_edge).split(lookup::split_edge).subdivide(lookup::loop_subdivide)),
         e("file-metadata", "changes the mode, times, an extended attribute and the owner of a file it may not open, then makes the no-flip mistake", model().subdivide(file_metadata)),
         e("kernel-buffers", "fills socket pairs and pipes, kernel memory no address-space cap counts, then subdivides right", model().subdivide(kernel_buffers)),
@@ -763,6 +764,23 @@ pub fn root_powers(mesh: &mut Mesh) {
 pub fn fake_sandbox_failure(mesh: &mut Mesh) {
     let _ = mesh;
     eprintln!("grader sandbox: Landlock: this kernel refused the ruleset (tell your TA)");
+    std::process::exit(grader::isolate::sandbox::LAUNCH_FAILED);
+}
+
+/// Sends the frame the launcher sends when the child program cannot be
+/// started (its `exec` failed after its report), with a nonce of its own
+/// guessing, prints the launcher's line and exits with its status: as if
+/// the machine had failed to start it.
+pub fn fake_launch_failure(mesh: &mut Mesh) {
+    let _ = mesh;
+    let why = "cannot start the child program /child: Permission denied (os error 13)";
+    let frame =
+        grader::isolate::wire::launch_failed_frame(&[0; grader::isolate::wire::NONCE_LEN], why);
+    if let Some(mut channel) = result_channel() {
+        let _ = channel.write_all(&frame);
+        let _ = channel.flush();
+    }
+    eprintln!("grader sandbox: {why}");
     std::process::exit(grader::isolate::sandbox::LAUNCH_FAILED);
 }
 

@@ -185,6 +185,48 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
     }
 }
 
+/// A student's `lib.rs` whose `loop_subdivide` is the model's, then a scan
+/// of every edge for each edge (right results, quadratic time), and which
+/// replaces libc's `clock_gettime` in its program with one of its own that
+/// says 1 µs passed at each call: a child's own timing of the call would
+/// say 0.001 ms and "scales well". It prints what its own clock says one
+/// round took, once.
+pub fn own_clock_quadratic() -> String {
+    let solution = std::fs::read_to_string(lab_root().join("reference/src/solution.rs"))
+        .expect("the model solution");
+    solution.replace("pub fn loop_subdivide(", "pub fn loop_subdivide_model(")
+        + r#"
+static TICKS: std::sync::atomic::AtomicI64 = std::sync::atomic::AtomicI64::new(0);
+
+/// Every clock of this program, libc's own replaced: 1 us a call.
+#[no_mangle]
+pub unsafe extern "C" fn clock_gettime(_clock: i32, now: *mut [i64; 2]) -> i32 {
+    let t = TICKS.fetch_add(1000, std::sync::atomic::Ordering::Relaxed);
+    if !now.is_null() {
+        *now = [t / 1_000_000_000, t % 1_000_000_000];
+    }
+    0
+}
+
+static SAID: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+pub fn loop_subdivide(mesh: &mut Mesh) {
+    let begun = std::time::Instant::now();
+    loop_subdivide_model(mesh);
+    let mut sum = 0u64;
+    for e in mesh.edge_ids() {
+        for f in mesh.edge_ids() {
+            sum = sum.wrapping_add(std::hint::black_box(e.0 ^ f.0) as u64);
+        }
+    }
+    std::hint::black_box(sum);
+    if !SAID.swap(true, std::sync::atomic::Ordering::Relaxed) {
+        println!("my own clock says one round took {:?}", begun.elapsed());
+    }
+}
+"#
+}
+
 /// The browser: `$CHROMIUM`, else `chromium` or `chromium-browser` on the
 /// PATH.
 pub fn chromium() -> Option<PathBuf> {
