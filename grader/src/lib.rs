@@ -295,10 +295,10 @@ pub fn student_child_program(fixtures: Option<&Path>) -> Result<runner::ChildPro
             return Err(NoChild::Refused(format!(
                 "hidden cases are within reach here ({}): the grader does not compile \
                  crates/meshedit where they are, since the code it compiles could read them \
-                 (include_str!) with your rights. To grade a student's file, follow \
-                 docs/ta-guide.md, \"Grade a class\" (one student by hand), which builds it \
-                 locked in, in a copy of the lab without them; to try your own code, grade it \
-                 in a copy of the lab without fixtures/hidden",
+                 (include_str!) with your rights. Grade a student's file as a class of one \
+                 (\"Grade a class\", one student by hand, in the guide that came with the \
+                 hidden cases), which builds it locked in, in a copy of the lab without them; \
+                 to try your own code, grade it in a copy of the lab without fixtures/hidden",
                 hidden.display()
             )));
         }

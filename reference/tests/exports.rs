@@ -2045,7 +2045,7 @@ fn by_hand_a_lab_with_hidden_cases_builds_no_student_code_and_class_takes_one_fi
     assert_eq!(out.status.code(), Some(2), "{stdout}\n{stderr}");
     assert!(
         stderr.contains("grader: hidden cases are within reach here")
-            && stderr.contains("docs/ta-guide.md, \"Grade a class\" (one student by hand)"),
+            && stderr.contains("(\"Grade a class\", one student by hand, in the guide that came with the hidden cases)"),
         "{stderr}"
     );
     assert!(
