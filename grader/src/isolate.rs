@@ -2,19 +2,24 @@
 //! the student's code sent back. Nothing here judges an answer.
 //!
 //! - [`sandbox`]: the launcher that locks the child in (Landlock, rlimits,
-//!   namespaces, dropping root); [`seccomp`]: its system-call filter.
+//!   namespaces, dropping root); [`seccomp`]: its system-call filter;
+//!   [`protections`]: what it put in force, as facts.
 //! - [`runner`]: starting, timing and killing the child ([`spawn`]: how
 //!   the launcher starts, in a session of its own); [`end`]: how a
 //!   case ended, the one type the judge and the reports read.
 //! - [`wire`]: what crosses the pipes, in both directions.
-//! - [`child`]: the child's side ([`child::serve`]) and the parent's
-//!   reading of its result ([`child::analyze`]).
+//! - [`child`]: the child's side ([`child::serve`]); [`analyze`]: the
+//!   parent's reading of its result; [`guard`]: panics caught without a
+//!   word on the screen, on both sides.
 //! - [`build_sandbox`]: the same lock-in for a student's build (class
 //!   grading and the Gradescope bundle).
 
+pub mod analyze;
 pub mod build_sandbox;
 pub mod child;
 pub mod end;
+pub mod guard;
+pub mod protections;
 pub mod runner;
 pub mod sandbox;
 pub mod seccomp;

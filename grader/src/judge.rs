@@ -9,7 +9,7 @@
 //! - [`grade`]: the verdict and messages for one case, built from the
 //!   checks beside it ([`ended`], [`returned`], [`counts`], [`compare`],
 //!   [`sequence`]) writing to a [`log`]; [`verdict`]: the verdict and its
-//!   findings as data; [`frames`]: the step-through of a recorded
+//!   findings as data ([`named`]: the elements its lines name); [`frames`]: the step-through of a recorded
 //!   subdivision.
 //! - [`scaling`]: `loop_subdivide` timed on two sizes, to catch quadratic
 //!   code (a warning, not counted).
@@ -23,6 +23,7 @@ pub mod frames;
 pub mod grade;
 pub mod log;
 pub mod matching;
+pub mod named;
 pub mod relabel;
 pub mod returned;
 pub mod scaling;

@@ -38,7 +38,7 @@ pub mod trial;
 #[cfg(unix)]
 pub mod watch;
 
-use isolate::{child, runner, sandbox, wire};
+use isolate::{runner, sandbox, wire};
 use judge::{fixture, frames, grade, relabel, scaling, verdict};
 use report::html;
 
@@ -48,17 +48,10 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::{Parser, ValueEnum};
-use halfedge::{EdgeId, Mesh, VertexId};
 
 use crate::judge::fixture::{Fixture, Operation, Stage};
 
-/// The three functions being graded.
-#[derive(Clone, Copy)]
-pub struct Implementation {
-    pub flip_edge: fn(&mut Mesh, EdgeId) -> Option<EdgeId>,
-    pub split_edge: fn(&mut Mesh, EdgeId) -> Option<VertexId>,
-    pub loop_subdivide: fn(&mut Mesh),
-}
+pub use isolate::child::Implementation;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Format {
@@ -493,7 +486,7 @@ fn grade_case(
     program: &runner::ChildProgram,
     limits: &sandbox::Limits,
     timeout: Duration,
-    protections: &mut Option<String>,
+    protections: &mut Option<isolate::protections::Protections>,
 ) -> Result<verdict::CaseReport, String> {
     use crate::isolate::end::CaseEnd;
     let f = case.fixture;
@@ -561,7 +554,7 @@ fn grade_case(
         };
         // The judge walks data the student's code made: a panic there is
         // the grader's bug, said as such, never a crash of the whole run.
-        let judged = |child_report: &runner::ChildReport| match child::guarded(|| {
+        let judged = |child_report: &runner::ChildReport| match isolate::guard::guarded(|| {
             grade::judge(f, child_report)
         }) {
             Ok(r) => r,
@@ -579,7 +572,7 @@ fn grade_case(
             report = judged(&child_report);
         }
         if protections.is_none() {
-            *protections = child_report.sandbox.clone();
+            *protections = child_report.sandbox;
         }
         let result = child_report.mesh.take();
         let recorded = child_report.recorded.take();
@@ -637,13 +630,19 @@ fn grade_all(
     timeout: f64,
     program: &runner::ChildProgram,
     limits: &sandbox::Limits,
-) -> Result<(Vec<verdict::CaseReport>, Option<String>), String> {
+) -> Result<
+    (
+        Vec<verdict::CaseReport>,
+        Option<isolate::protections::Protections>,
+    ),
+    String,
+> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
     let workers = workers(cases.len());
     let next = AtomicUsize::new(0);
     let timed_out: Mutex<Vec<(Stage, String)>> = Mutex::new(Vec::new());
-    let protections: Mutex<Option<String>> = Mutex::new(None);
+    let protections: Mutex<Option<isolate::protections::Protections>> = Mutex::new(None);
     let results: Mutex<Vec<Option<Result<verdict::CaseReport, String>>>> =
         Mutex::new(vec![None; cases.len()]);
     std::thread::scope(|scope| {
@@ -828,7 +827,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         Ok(r) => r,
         Err(e) => return usage_error(&e),
     };
-    let (mut reports, protections): (Vec<_>, Option<String>) = reports;
+    let (mut reports, protections): (Vec<_>, Option<isolate::protections::Protections>) = reports;
     grade::note_dependencies(&mut reports);
     // Quadratic code: timed once subdivision is right (a warning only).
     let asked = cli.case.is_none()
@@ -840,10 +839,8 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         .flatten();
     // Naming a bonus case is asking for it to count.
     let bonus = cli.bonus || cli.case.is_some();
-    let protections = protections
-        .as_deref()
-        .map(sandbox::describe_status)
-        .unwrap_or_else(|| "protections: unknown (no case reported them)".into());
+    let protections =
+        report::protections::line(protections.as_ref(), runner::grader_not_dumpable());
     let time_line = plan.describe(cli.timeout);
     let protections_json = protections.clone();
     let report_path = match &cli.report {

@@ -1,12 +1,14 @@
 //! Reporting: renderings of the judge's findings. This module prints the
 //! lab's text format, JSON and Gradescope's `results.json`; [`html`] draws
-//! the `--report` page; [`quoted`] (the crate's, re-exported here) is how
-//! anything the student's code said is shown (as data, under `| `).
+//! the `--report` page; [`protections`] the protections line; [`quoted`]
+//! (the crate's, re-exported here) is how anything the student's code said
+//! is shown (as data, under `| `).
 //!
 //! Nothing here decides a verdict: every function reads
 //! [`CaseReport`]s, never another module's message text.
 
 pub mod html;
+pub mod protections;
 pub use crate::quoted;
 
 use std::fmt::Write as _;

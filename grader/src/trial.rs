@@ -12,8 +12,8 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use halfedge::Mesh;
 
-use crate::isolate::child::{Finished, Returned};
 use crate::isolate::end::CaseEnd;
+use crate::isolate::end::{Finished, Returned};
 use crate::isolate::runner::{self, ChildProgram};
 use crate::isolate::sandbox;
 use crate::isolate::wire::{self, Op};
@@ -342,7 +342,7 @@ fn describe_exit(end: &CaseEnd, cli: &TryCli) -> String {
         CaseEnd::StackOverflow => "it overflowed the stack".into(),
         CaseEnd::OutOfMemory { .. } => format!(
             "it used more than {} of memory (--memory changes the cap)",
-            sandbox::format_bytes(cli.memory)
+            crate::text::format_bytes(cli.memory)
         ),
         CaseEnd::Signal { signal } => format!("it crashed with signal {signal}"),
         CaseEnd::Exited { code } => format!("it ended the program (exit status {code:?})"),

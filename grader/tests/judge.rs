@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use grader::isolate::child::{Counts, Finished, MeshResult, Returned, SplitIds};
 use grader::isolate::end::CaseEnd;
+use grader::isolate::end::{Counts, Finished, MeshResult, Returned, SplitIds};
 use grader::isolate::runner::ChildReport;
 use grader::judge::fixture::{self, Fixture, Returns};
 use grader::judge::grade::judge;
@@ -137,7 +137,7 @@ fn finished(
     let child = ChildReport::bare(CaseEnd::Returned(Box::new(Finished {
         before: input_counts(f),
         after,
-        invalid: invalid.map(grader::isolate::child::Problem::of),
+        invalid: invalid.map(grader::isolate::end::Problem::of),
         mesh: mesh.map(Box::new),
         // A refusal that returns None is taken to have left the mesh alone.
         unchanged: returned == Returned::Nothing,

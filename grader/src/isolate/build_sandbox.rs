@@ -329,7 +329,7 @@ impl Report {
             Outcome::OutOfMemory => Some(format!(
                 "the build used more than {} (the memory cap of each compiler process): \
                  does the code embed or compute something huge at compile time?",
-                crate::isolate::sandbox::format_bytes(self.memory)
+                crate::text::format_bytes(self.memory)
             )),
             Outcome::OutOfTime => Some(format!(
                 "the build did not finish within {} s",
@@ -376,7 +376,7 @@ impl Report {
         format!(
             "build protections: {files}, {network}, {root}, memory cap {} per process, time \
              limit {} s, own session, environment {}{user}",
-            crate::isolate::sandbox::format_bytes(self.memory),
+            crate::text::format_bytes(self.memory),
             self.seconds,
             ENV_NAMES.join(" ")
         )

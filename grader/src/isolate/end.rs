@@ -1,7 +1,8 @@
-//! How a case ended: [`CaseEnd`], the one type for it. The runner
-//! ([`crate::isolate::runner`]) produces it, converting the wire's result
-//! ([`crate::isolate::wire::Ran`], the bytes on the pipe) through the
-//! parent's reading of it ([`crate::isolate::child::analyze`]) and its own
+//! How a case ended: [`CaseEnd`], the one type for it, and the result
+//! types inside it ([`Finished`], [`SequenceRan`], [`Problem`], ...). The
+//! runner ([`crate::isolate::runner`]) produces it, converting the wire's
+//! result ([`crate::isolate::wire::Ran`], the bytes on the pipe) through
+//! the parent's reading of it ([`crate::isolate::analyze`]) and its own
 //! view of the process (killed at the limit, a signal, a garbled channel);
 //! the judge decides from it and every renderer reads it.
 //!
@@ -10,9 +11,12 @@
 
 use std::time::Duration;
 
-use serde::ser::{Serialize, SerializeMap, Serializer};
+use serde::ser::{SerializeMap, Serializer};
 
-use crate::isolate::child::{Finished, SequenceRan};
+use halfedge::{Mesh, VertexId};
+use serde::{Deserialize, Serialize};
+
+use crate::isolate::wire::StepRan;
 
 /// How a case ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -171,4 +175,185 @@ mod tests {
             serde_json::json!({"kind": "stack-overflow"})
         );
     }
+}
+
+/// Element counts: vertices, edges, faces (with holes), halfedges.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counts {
+    pub vertices: usize,
+    pub edges: usize,
+    pub faces: usize,
+    pub halfedges: usize,
+}
+
+impl Counts {
+    pub fn of(mesh: &Mesh) -> Counts {
+        Counts {
+            vertices: mesh.num_vertices(),
+            edges: mesh.num_edges(),
+            faces: mesh.num_faces(),
+            halfedges: mesh.num_halfedges(),
+        }
+    }
+}
+
+/// What a student function returned.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Returned {
+    /// `loop_subdivide` returns nothing.
+    Unit,
+    Nothing,
+    Edge {
+        given: u32,
+        got: u32,
+    },
+    Vertex {
+        id: u32,
+        /// Missing when the id names no vertex.
+        position: Option<[f64; 3]>,
+    },
+}
+
+/// The mesh after the operation, read only when it validated.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeshResult {
+    pub positions: Vec<[f64; 3]>,
+    pub edges: Vec<[usize; 2]>,
+    /// For a returned edge: the vertices it joins.
+    pub returned_edge_ends: Option<[usize; 2]>,
+    /// For a returned vertex: where its halfedge leads.
+    pub returned_vertex_leads_to: Option<usize>,
+    /// After a split that returned a new vertex, what the contract pins
+    /// down besides the shape: see [`SplitIds`].
+    pub split: Option<SplitIds>,
+}
+
+/// The ids a split must keep sensible, read in the labelling that was sent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SplitIds {
+    /// The new vertex's `is_new` and `new_pos`: a split leaves them at their
+    /// defaults (`false`, zero); subdivision sets them after the call.
+    pub is_new: bool,
+    pub new_pos: [f64; 3],
+    /// The split edge's id, and the vertices it joins now: the new vertex
+    /// and an end of the old edge.
+    pub edge: usize,
+    pub edge_ends: [usize; 2],
+    /// The old faces beside the edge that no longer have the new vertex as
+    /// a corner (each must become one of the triangles around it).
+    pub faces_away: Vec<usize>,
+}
+
+/// A function that returned, as the parent read its result.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Finished {
+    pub returned: Returned,
+    pub before: Counts,
+    pub after: Counts,
+    /// The first thing wrong with the result's links or positions.
+    pub invalid: Option<Problem>,
+    pub mesh: Option<Box<MeshResult>>,
+    /// Every record, positions to the bit, is as it was sent.
+    #[serde(default)]
+    pub unchanged: bool,
+}
+
+/// A sequence: what each step that ran did (the child stops at the first
+/// step that leaves an invalid mesh, panics or names two vertices no edge
+/// joins), and the mesh the last one left, read as for one operation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SequenceRan {
+    pub steps: Vec<StepRan>,
+    pub panic: Option<(String, Option<String>)>,
+    pub before: Counts,
+    pub after: Counts,
+    pub invalid: Option<Problem>,
+    pub mesh: Option<Box<MeshResult>>,
+}
+
+/// The first thing wrong with a result's links or positions, as data
+/// (its message is [`Problem`]'s `Display`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Problem {
+    /// `validate()` failed: the check, the element and its message (the
+    /// message as the parent read it, see [`crate::text::words`]).
+    Invalid {
+        #[serde(skip)]
+        invalid: Option<halfedge::Invalid>,
+        message: String,
+    },
+    /// A vertex whose position is not a finite number.
+    NotFinite { vertex: u32, position: [f64; 3] },
+    /// Walking the mesh panicked (the library's message).
+    Unwalkable { message: String },
+}
+
+impl Problem {
+    /// `validate()`'s finding, its message as the grader says it.
+    pub fn of(invalid: halfedge::Invalid) -> Problem {
+        let mut invalid = invalid;
+        invalid.message = crate::text::words(invalid.message);
+        Problem::Invalid {
+            message: invalid.to_string(),
+            invalid: Some(invalid),
+        }
+    }
+
+    /// The check of `validate()` that failed, if it was one.
+    pub fn check(&self) -> Option<halfedge::Check> {
+        match self {
+            Problem::Invalid { invalid, .. } => invalid.as_ref().map(|i| i.check),
+            _ => None,
+        }
+    }
+
+    /// The element at fault, in the numbering of the mesh checked.
+    pub fn element(&self) -> Option<halfedge::Element> {
+        match self {
+            Problem::Invalid { invalid, .. } => invalid.as_ref().map(|i| i.element),
+            Problem::NotFinite { vertex, .. } => Some(VertexId(*vertex).into()),
+            Problem::Unwalkable { .. } => None,
+        }
+    }
+
+    /// The first problem with `mesh`: a non-finite position, else
+    /// `validate()`'s. Guard the call: it walks what the student made.
+    pub(crate) fn find(mesh: &Mesh) -> Option<Problem> {
+        non_finite(mesh).or_else(|| mesh.validate().err().map(Problem::of))
+    }
+}
+
+impl std::fmt::Display for Problem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Problem::Invalid { message, .. } => f.write_str(message),
+            Problem::NotFinite {
+                vertex,
+                position: p,
+            } => write!(
+                f,
+                "vertex v{vertex} is at ({}, {}, {}): a position must be a finite number",
+                p[0], p[1], p[2]
+            ),
+            Problem::Unwalkable { message } => {
+                write!(f, "the mesh could not be walked: {message}")
+            }
+        }
+    }
+}
+
+/// The first vertex whose position is not a finite number ("vertex v7 is
+/// at (NaN, 0, 1)").
+pub(crate) fn non_finite(mesh: &Mesh) -> Option<Problem> {
+    let (vertices, ..) = mesh.records();
+    let (i, v) = vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.pos.is_finite())?;
+    Some(Problem::NotFinite {
+        vertex: i as u32,
+        position: v.pos.to_array(),
+    })
 }

@@ -27,10 +27,10 @@ use std::sync::{mpsc, Arc};
 use std::thread;
 use std::time::{Duration, Instant};
 
+use crate::isolate::protections::Protections;
 use crate::isolate::sandbox::{self, Limits};
 use halfedge::Mesh;
 
-use crate::isolate::child;
 use crate::isolate::end::CaseEnd;
 use crate::isolate::wire::{self, Frame, Ran, Recorded, Request};
 
@@ -64,7 +64,7 @@ pub struct ChildReport {
     /// What the student's code printed, cut at 8 KiB.
     pub output: String,
     /// The launcher's description of the protections in force.
-    pub sandbox: Option<String>,
+    pub sandbox: Option<Protections>,
     /// The CPU time of the call, from the request sent to the result read
     /// (the child decoding the request, building the mesh, the call and
     /// sending the result back), read by the grader from the kernel's
@@ -97,7 +97,7 @@ impl ChildReport {
 /// What the threads watching a child tell the loop waiting on a call.
 enum Event {
     /// The launcher's report of the protections in force.
-    Sandbox(String),
+    Sandbox(Protections),
     /// The child program waits for its first request.
     Ready,
     /// A call started: its clock starts.
@@ -276,10 +276,8 @@ pub fn kill_descendants() {
 /// then every process of the case lives in it (an orphan there goes to its
 /// init, never to the grader) and dies with it, and the sweep, a walk of
 /// all `/proc`, would find nothing.
-fn sweep_unless_contained(sandbox_status: &Option<String>) {
-    let contained = sandbox_status
-        .as_deref()
-        .is_some_and(|s| s.split_whitespace().any(|kv| kv == "pidns=1"));
+fn sweep_unless_contained(launched: &Option<Protections>) {
+    let contained = launched.is_some_and(|p| p.pid_namespace);
     if !contained {
         kill_descendants();
     }
@@ -535,7 +533,7 @@ struct Live {
     output: mpsc::Receiver<String>,
     /// The most bytes a result may have, set per call.
     cap: Arc<AtomicUsize>,
-    sandbox: Option<String>,
+    sandbox: Option<Protections>,
     status: Option<ExitStatus>,
     /// Calls it has served.
     served: usize,
@@ -817,7 +815,7 @@ impl<'a> Session<'a> {
             sweep_unless_contained(&live.sandbox);
         }
         let output = live.output.recv_timeout(CLOSE_GRACE).unwrap_or_default();
-        let sandbox_status = live.sandbox.clone();
+        let sandbox_status = live.sandbox;
         let end = classify(
             limit_hit,
             live.status,
@@ -837,7 +835,7 @@ impl<'a> Session<'a> {
                 {
                     recorded = r.take();
                 }
-                child::analyze(request.op, &request.mesh, ran)
+                crate::isolate::analyze::analyze(request.op, &request.mesh, ran)
             }
             Err(CaseEnd::OutOfMemory { .. }) => CaseEnd::OutOfMemory {
                 cap: self.limits.memory,
@@ -907,14 +905,9 @@ impl CpuClock {
     /// init), elsewhere the launcher itself, `exec`ed. `None` where it
     /// cannot be found (then nothing is timed).
     #[cfg(target_os = "linux")]
-    fn of_child(status: &str, launcher: u32) -> Option<CpuClock> {
-        let field = |key: &str| {
-            status
-                .split_whitespace()
-                .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
-        };
-        let pid: u32 = field("pid")?.parse().ok()?;
-        let found = if field("pidns") == Some("1") {
+    fn of_child(launched: &Protections, launcher: u32) -> Option<CpuClock> {
+        let pid = launched.pid;
+        let found = if launched.pid_namespace {
             parent_of(pid).and_then(parent_of) == Some(launcher)
         } else {
             pid == launcher
@@ -931,7 +924,7 @@ impl CpuClock {
     }
 
     #[cfg(not(target_os = "linux"))]
-    fn of_child(_: &str, _: u32) -> Option<CpuClock> {
+    fn of_child(_: &Protections, _: u32) -> Option<CpuClock> {
         None
     }
 

@@ -94,19 +94,6 @@ impl Default for Limits {
     }
 }
 
-/// `2 GiB`, `512 MiB`: how messages say a memory size.
-pub fn format_bytes(bytes: u64) -> String {
-    const GIB: u64 = 1 << 30;
-    const MIB: u64 = 1 << 20;
-    if bytes % GIB == 0 {
-        format!("{} GiB", bytes / GIB)
-    } else if bytes >= GIB {
-        format!("{:.1} GiB", bytes as f64 / GIB as f64)
-    } else {
-        format!("{} MiB", bytes.div_ceil(MIB))
-    }
-}
-
 /// The launcher's command line: `LAUNCH_ARG memory drop|keep
 /// landlock|nolandlock pidns|nopidns child args...`.
 pub fn launcher_args(limits: &Limits, child: &Path, child_args: &[OsString]) -> Vec<OsString> {
@@ -1036,7 +1023,8 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     let user_namespace = namespace && !was_root;
     // Read before the empty root hides the machine's /proc: the grader
     // times the child by this id (its CPU time, from the kernel).
-    let pid = pid_seen_by_grader(namespace).map_or("?".to_string(), |p| p.to_string());
+    // (0: not found; then nothing is timed.)
+    let pid = pid_seen_by_grader(namespace).unwrap_or(0);
     // The empty root needs the PID namespace (its `/proc` shows only the
     // case's processes): without one, the machine's files stay visible.
     let (program, rooted) = match namespace.then(|| empty_root(&program)).transpose() {
@@ -1044,7 +1032,7 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         Ok(_) => (program, false),
         Err(e) => return e,
     };
-    let setup = || -> Result<String, String> {
+    let setup = || -> Result<crate::isolate::protections::Protections, String> {
         set_limit(libc::RLIMIT_AS, limits.memory)?;
         set_limit(libc::RLIMIT_FSIZE, 0)?;
         set_limit(libc::RLIMIT_CORE, 0)?;
@@ -1088,15 +1076,17 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
         };
         std::env::set_current_dir("/").map_err(|e| format!("chdir /: {e}"))?;
         let filtered = crate::isolate::seccomp::apply()?;
-        Ok(format!(
-            "landlock={abi} memory={} user={} group=own session=own pidns={} root={} caps=0 \
-             seccomp={} pid={pid}",
-            limits.memory,
-            if dropped { "nobody" } else { "same" },
-            u8::from(namespace),
-            if rooted { "empty" } else { "host" },
-            u8::from(filtered)
-        ))
+        Ok(crate::isolate::protections::Protections {
+            landlock: u8::try_from(abi).unwrap_or(u8::MAX),
+            memory: limits.memory,
+            nobody: dropped,
+            own_session: true,
+            pid_namespace: namespace,
+            empty_root: rooted,
+            no_capabilities: true,
+            seccomp: filtered,
+            pid,
+        })
     };
     let status = match setup() {
         Ok(s) => s,
@@ -1177,106 +1167,9 @@ fn launch(limits: &Limits, child: &Path, child_args: &[OsString]) -> String {
     why
 }
 
-/// The protections in force, from the launcher's status frame, as the
-/// report's protections line says them.
-pub fn describe_status(status: &str) -> String {
-    let field = |key: &str| {
-        status
-            .split_whitespace()
-            .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
-            .unwrap_or("")
-    };
-    let landlock = match field("landlock") {
-        "" | "0" => "Landlock off (the kernel has none: student code can read files)".to_string(),
-        abi => format!("Landlock ABI {abi} (no files, no network, no signals out)"),
-    };
-    let memory = field("memory")
-        .parse::<u64>()
-        .map(|m| format!("memory cap {}", format_bytes(m)))
-        .unwrap_or_else(|_| "memory cap unknown".into());
-    let session = match field("session") {
-        "own" => ", own session (no terminal)",
-        _ => "",
-    };
-    let pids = match field("pidns") {
-        "1" => ", own PID namespace (nothing outlives the case)",
-        _ => ", orphans swept (no PID namespace here)",
-    };
-    let root = match field("root") {
-        "empty" => ", empty root (no other file even seen to exist)",
-        _ => ", machine's files seen to exist (no mount namespace here)",
-    };
-    let user = match field("user") {
-        "nobody" => ", user nobody",
-        _ => "",
-    };
-    let caps = match field("caps") {
-        "0" => ", no capabilities",
-        _ => "",
-    };
-    let filter = match field("seccomp") {
-        "1" => {
-            ", seccomp (no new processes, no sockets, no IPC, no reaching other processes, \
-             no terminal input, no file watches)"
-        }
-        _ => ", no seccomp filter",
-    };
-    let grader = if crate::isolate::runner::grader_not_dumpable() {
-        ", grader not dumpable"
-    } else {
-        ""
-    };
-    format!(
-        "protections: {landlock}, {memory}, own process group{session}{pids}{root}{user}{caps}\
-         {filter}{grader}"
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sizes_read_well() {
-        assert_eq!(format_bytes(2 << 30), "2 GiB");
-        assert_eq!(format_bytes(512 << 20), "512 MiB");
-        assert_eq!(format_bytes(3 << 29), "1.5 GiB");
-    }
-
-    #[test]
-    fn the_status_line_names_each_protection() {
-        let line = describe_status(
-            "landlock=6 memory=2147483648 user=nobody group=own session=own pidns=1 root=empty \
-             caps=0 seccomp=1",
-        );
-        let grader = if crate::isolate::runner::grader_not_dumpable() {
-            ", grader not dumpable"
-        } else {
-            ""
-        };
-        assert_eq!(
-            line,
-            format!(
-                "protections: Landlock ABI 6 (no files, no network, no signals out), \
-                 memory cap 2 GiB, own process group, own session (no terminal), \
-                 own PID namespace (nothing outlives the case), \
-                 empty root (no other file even seen to exist), user nobody, no capabilities, \
-                 seccomp (no new processes, no sockets, no IPC, no reaching other processes, \
-                 no terminal input, no file watches){grader}"
-            )
-        );
-        let off = describe_status("landlock=0 memory=1073741824 user=same group=own pidns=0");
-        assert!(off.contains("Landlock off"), "{off}");
-        assert!(
-            off.contains("orphans swept (no PID namespace here)"),
-            "{off}"
-        );
-        assert!(!off.contains("nobody"), "{off}");
-        assert!(
-            off.contains("machine's files seen to exist (no mount namespace here)"),
-            "{off}"
-        );
-    }
 
     #[test]
     fn launcher_arguments_parse_back() {

@@ -138,7 +138,7 @@ pub enum Ran {
 #[derive(Clone, Debug)]
 pub enum Frame {
     /// The launcher's report of the protections it put in place.
-    Sandbox(String),
+    Sandbox(crate::isolate::protections::Protections),
     /// The child program runs and waits for its first request (sent once,
     /// by `serve`): a timed call's request is sent only then, so that the
     /// CPU time the grader counts is the call's, not the program's start.
@@ -423,9 +423,9 @@ impl Request {
 }
 
 /// The launcher's frame: what protections are in force.
-pub fn sandbox_frame(status: &str) -> Vec<u8> {
+pub fn sandbox_frame(p: &crate::isolate::protections::Protections) -> Vec<u8> {
     let mut out = vec![TAG_SANDBOX];
-    put_str(&mut out, status);
+    out.extend_from_slice(&p.to_bytes());
     out
 }
 
@@ -646,7 +646,12 @@ pub fn decode_frames(bytes: &[u8]) -> Result<Vec<Frame>, WireError> {
     let mut frames = Vec::new();
     while !r.bytes.is_empty() {
         match r.u8()? {
-            TAG_SANDBOX => frames.push(Frame::Sandbox(r.str()?)),
+            TAG_SANDBOX => {
+                let bytes = r.take(crate::isolate::protections::Protections::LEN)?;
+                let p = crate::isolate::protections::Protections::from_bytes(bytes)
+                    .ok_or_else(|| WireError("a launcher report that does not decode".into()))?;
+                frames.push(Frame::Sandbox(p));
+            }
             TAG_STARTED => frames.push(Frame::Started),
             TAG_READY => frames.push(Frame::Ready),
             TAG_LAUNCH_FAILED => {
@@ -747,10 +752,8 @@ pub fn frame_at(bytes: &[u8]) -> Result<Pending, WireError> {
     match tag {
         TAG_STARTED | TAG_READY => Ok(Pending::Whole(1)),
         TAG_SANDBOX => Ok(sized(
-            5,
-            bytes
-                .get(1..5)
-                .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")) as u64),
+            1,
+            Some(crate::isolate::protections::Protections::LEN as u64),
         )),
         TAG_LAUNCH_FAILED => Ok(sized(
             5 + NONCE_LEN,
@@ -986,7 +989,12 @@ mod tests {
     #[test]
     fn frames_round_trip() {
         let mesh = unusual();
-        let mut bytes = sandbox_frame("landlock v6");
+        let launched = crate::isolate::protections::Protections {
+            landlock: 6,
+            pid: 17,
+            ..Default::default()
+        };
+        let mut bytes = sandbox_frame(&launched);
         bytes.extend(ready_frame());
         bytes.extend(started_frame());
         bytes.extend(result_frame(&Ran::Returned {
@@ -1000,7 +1008,7 @@ mod tests {
         let nonce = [7u8; NONCE_LEN];
         bytes.extend(launch_failed_frame(&nonce, "cannot start /child"));
         let frames = decode_frames(&bytes).unwrap();
-        assert!(matches!(&frames[0], Frame::Sandbox(s) if s == "landlock v6"));
+        assert!(matches!(&frames[0], Frame::Sandbox(p) if *p == launched));
         assert!(matches!(frames[1], Frame::Ready));
         assert!(matches!(frames[2], Frame::Started));
         assert!(
@@ -1051,12 +1059,13 @@ mod tests {
             mesh: unusual(),
             recorded: None,
         });
-        let mut stream = sandbox_frame("x");
+        let mut stream = sandbox_frame(&Default::default());
         stream.extend(started_frame());
         stream.extend(result.clone());
-        assert_eq!(frame_at(&stream), Ok(Pending::Whole(6)));
-        assert_eq!(frame_at(&stream[6..]), Ok(Pending::Whole(1)));
-        assert_eq!(frame_at(&stream[7..]), Ok(Pending::Whole(result.len())));
+        let s = 1 + crate::isolate::protections::Protections::LEN;
+        assert_eq!(frame_at(&stream), Ok(Pending::Whole(s)));
+        assert_eq!(frame_at(&stream[s..]), Ok(Pending::Whole(1)));
+        assert_eq!(frame_at(&stream[s + 1..]), Ok(Pending::Whole(result.len())));
         assert_eq!(frame_at(&ready_frame()), Ok(Pending::Whole(1)));
         let failed = launch_failed_frame(&[1; NONCE_LEN], "why");
         assert_eq!(frame_at(&failed), Ok(Pending::Whole(5 + NONCE_LEN + 3)));

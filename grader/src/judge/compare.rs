@@ -5,7 +5,7 @@
 
 use halfedge::VertexId;
 
-use crate::isolate::child::{Counts, MeshResult};
+use crate::isolate::end::{Counts, MeshResult};
 use crate::judge::counts::{counts_rule, old_vertices};
 use crate::judge::fixture::{Fixture, Operation};
 use crate::judge::log::{fmt_p, hint, say, Log};

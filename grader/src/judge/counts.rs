@@ -2,7 +2,7 @@
 //! split, and for subdivision the counts each round's rule gives, said
 //! with the rule.
 
-use crate::isolate::child::Counts;
+use crate::isolate::end::Counts;
 use crate::judge::fixture::{Fixture, Operation, Returns};
 use crate::judge::log::{say, Log};
 

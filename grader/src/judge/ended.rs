@@ -46,7 +46,7 @@ pub(super) fn say_how(f: &Fixture, end: &CaseEnd, failed: Option<&str>, log: &mu
                 log,
                 Warn,
                 "{function} used more than {} of memory",
-                crate::isolate::sandbox::format_bytes(*cap)
+                crate::text::format_bytes(*cap)
             );
             say!(log, Detail, "a loop that never stops adding elements or growing a Vec? (--memory changes the cap)");
         }

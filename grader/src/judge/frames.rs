@@ -7,9 +7,9 @@
 use halfedge::{EdgeId, Element, Mesh, VertexId};
 use serde::Serialize;
 
-use crate::isolate::child::Problem;
+use crate::isolate::end::Problem;
 use crate::isolate::wire::Recorded;
-use crate::judge::verdict::Named;
+use crate::judge::named::Named;
 
 /// A subdivision's frames, for the report's slider.
 #[derive(Clone, Debug, Serialize)]
@@ -139,7 +139,7 @@ pub fn read(recorded: Recorded, result: Option<&Mesh>, input: &Mesh, tolerance: 
         unjudged: None,
     };
     let valid = |m: &Mesh| -> Result<(), Problem> {
-        crate::isolate::child::guarded(|| m.validate().map_err(Problem::of))
+        crate::isolate::guard::guarded(|| m.validate().map_err(Problem::of))
             .unwrap_or_else(|(message, _)| Err(Problem::Unwalkable { message }))
     };
     if n == 0 {

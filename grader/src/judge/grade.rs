@@ -8,8 +8,8 @@
 //! [`crate::text::set_rewording`] rewrites every one, and the tests check
 //! that no verdict, hint or element moves.
 
-use crate::isolate::child::{Counts, Finished, MeshResult, Problem, Returned, SequenceRan};
 use crate::isolate::end::CaseEnd;
+use crate::isolate::end::{Counts, Finished, MeshResult, Problem, Returned, SequenceRan};
 use crate::isolate::runner::ChildReport;
 use crate::judge::compare::{compare_edges, compare_vertices, comparison_of};
 use crate::judge::counts::check_counts;

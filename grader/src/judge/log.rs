@@ -5,7 +5,7 @@
 
 use halfedge::Element;
 
-use crate::isolate::child::Problem;
+use crate::isolate::end::Problem;
 use crate::judge::fixture::Fixture;
 use crate::judge::verdict::{
     pointer_of, CaseReport, Comparison, Entry, Hint, InvalidFact, Level, Named, Pointer,

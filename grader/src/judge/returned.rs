@@ -5,7 +5,7 @@
 
 use halfedge::{EdgeId, FaceId, VertexId};
 
-use crate::isolate::child::{Counts, MeshResult, Returned, SplitIds};
+use crate::isolate::end::{Counts, MeshResult, Returned, SplitIds};
 use crate::judge::fixture::{Fixture, Operation, Returns, Stage};
 use crate::judge::log::{fmt_p, say, Log};
 use crate::judge::matching::{self, VertexMatch};

@@ -2,7 +2,7 @@
 //! return and element counts and the mesh's validity after it, then the
 //! shape the last step left.
 
-use crate::isolate::child::{Counts, MeshResult, Problem};
+use crate::isolate::end::{Counts, MeshResult, Problem};
 use crate::isolate::wire::{StepAnswer, StepRan};
 use crate::judge::compare::{compare_edges, compare_vertices};
 use crate::judge::fixture::{Fixture, Operation, Returns};
