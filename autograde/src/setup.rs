@@ -120,14 +120,10 @@ pub fn chown_tree(path: &Path, ids: (u32, u32)) -> Result<(), String> {
     Ok(())
 }
 
-/// (uid, gid) of [`BUILD_USER`], from `/etc/passwd`.
+/// (uid, gid) of [`BUILD_USER`], `nobody` (the grader's one reading of
+/// it, `grader::isolate::sys::nobody`).
 pub fn build_user_ids() -> Option<(u32, u32)> {
-    let passwd = std::fs::read_to_string("/etc/passwd").ok()?;
-    passwd.lines().find_map(|l| {
-        let fields: Vec<&str> = l.split(':').collect();
-        (fields.first() == Some(&BUILD_USER)).then_some(())?;
-        Some((fields.get(2)?.parse().ok()?, fields.get(3)?.parse().ok()?))
-    })
+    Some(grader::isolate::sys::nobody())
 }
 
 /// Moves `from` to `to`: a rename, or a copy and a removal across file

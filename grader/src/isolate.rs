@@ -1,9 +1,11 @@
 //! Isolating the child: everything between "run this case" and the bytes
 //! the student's code sent back. Nothing here judges an answer.
 //!
-//! - [`sandbox`]: the launcher that locks the child in (Landlock, rlimits,
-//!   namespaces, dropping root); [`seccomp`]: its system-call filter;
-//!   [`protections`]: what it put in force, as facts.
+//! - [`sandbox`]: the launcher that locks the child in, putting together
+//!   [`sys`] (limits, users, capabilities, sessions), [`namespace`] (the
+//!   PID namespace and the empty root), [`landlock_rules`] and
+//!   [`seccomp`] (its system-call filter); [`protections`]: what it put in
+//!   force, as facts.
 //! - [`runner`]: starting, timing and killing the child ([`spawn`]: how
 //!   the launcher starts, in a session of its own); [`end`]: how a
 //!   case ended, the one type the judge and the reports read.
@@ -19,10 +21,13 @@ pub mod build_sandbox;
 pub mod child;
 pub mod end;
 pub mod guard;
+pub mod landlock_rules;
+pub mod namespace;
 pub mod protections;
 pub mod runner;
 pub mod sandbox;
 pub mod seccomp;
 #[cfg(target_os = "linux")]
 pub mod spawn;
+pub mod sys;
 pub mod wire;

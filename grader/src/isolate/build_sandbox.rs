@@ -59,8 +59,6 @@ pub const ENV_NAMES: [&str; 7] = [
     "LANG",
 ];
 
-const NOBODY: u32 = 65534;
-
 /// One locked-in build of the lab's grader (and the student's crate in it).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Build {
@@ -725,7 +723,7 @@ fn write_all(fd: i32, mut bytes: &[u8]) {
 }
 
 // Limits are set as the case launcher sets them.
-use crate::isolate::sandbox::set_limit;
+use crate::isolate::sys::set_limit;
 
 /// The child's lock-in, before cargo is `exec`ed: the status line for the
 /// launcher (`landlock=6 network=namespace user=nobody root=empty`).
@@ -779,14 +777,9 @@ fn lock_in(build: &Build, parent: libc::pid_t, status: i32) -> Result<String, St
     // SAFETY: plain system calls.
     let root = unsafe { libc::geteuid() } == 0;
     let user = if build.drop_user && root {
-        // SAFETY: plain system calls; groups first, while still allowed.
+        crate::isolate::sys::drop_to_nobody()?;
+        // SAFETY: a plain system call.
         unsafe {
-            if libc::setgroups(0, std::ptr::null()) != 0
-                || libc::setgid(NOBODY) != 0
-                || libc::setuid(NOBODY) != 0
-            {
-                return Err(format!("cannot drop to user nobody: {}", last_error()));
-            }
             // Dropping the user clears the parent-death signal.
             #[cfg(target_os = "linux")]
             libc::prctl(
@@ -881,13 +874,13 @@ fn own_namespaces() -> Spaces {
         (unsafe { libc::unshare(libc::CLONE_NEWUSER | flags) } == 0)
             && maps.iter().all(|(f, t)| std::fs::write(f, t).is_ok())
     };
-    let works = |flags: libc::c_int| match crate::isolate::sandbox::fork() {
+    let works = |flags: libc::c_int| match crate::isolate::sys::fork() {
         Ok(0) => {
             let ok = enter(flags);
             // SAFETY: ends the throwaway process.
             unsafe { libc::_exit(if ok { 0 } else { 1 }) }
         }
-        Ok(probe) => crate::isolate::sandbox::wait_for(probe) == Some(0),
+        Ok(probe) => crate::isolate::sys::wait_for(probe) == Some(0),
         Err(_) => false,
     };
     for (flags, got) in [
@@ -925,7 +918,7 @@ fn own_namespaces() -> Spaces {
 /// this process's).
 #[cfg(target_os = "linux")]
 fn wait_outside(status: i32) -> Result<(), String> {
-    let first = crate::isolate::sandbox::fork()?;
+    let first = crate::isolate::sys::fork()?;
     if first == 0 {
         // SAFETY: a plain prctl call. Its parent is this process's waiter.
         unsafe {
@@ -950,8 +943,8 @@ fn wait_outside(status: i32) -> Result<(), String> {
             libc::close(null);
         }
     }
-    let ended = crate::isolate::sandbox::wait_for(first).unwrap_or(libc::SIGKILL);
-    crate::isolate::sandbox::end_like(ended)
+    let ended = crate::isolate::sys::wait_for(first).unwrap_or(libc::SIGKILL);
+    crate::isolate::sys::end_like(ended)
 }
 
 #[cfg(not(target_os = "linux"))]
@@ -989,7 +982,8 @@ fn inside(new: &Path, path: &Path) -> PathBuf {
 /// after the switch is an error: the root would be half made.
 #[cfg(target_os = "linux")]
 fn empty_root(build: &Build) -> Result<bool, String> {
-    use crate::isolate::sandbox::{cpath, mount, open_folders, os_error, remount_read_only};
+    use crate::isolate::namespace::{cpath, mount, open_folders, remount_read_only};
+    use crate::isolate::sys::os_error;
     use std::os::fd::{AsRawFd, FromRawFd};
     if mount(
         None,
@@ -1191,7 +1185,7 @@ fn landlock(build: &Build) -> Result<i32, String> {
     };
     let abi = ABI::V6;
     let fail = |e: &dyn std::fmt::Display| format!("Landlock: {e}");
-    let mut ruleset = crate::isolate::sandbox::denying_everything()?;
+    let mut ruleset = crate::isolate::landlock_rules::denying_everything()?;
     let read: BitFlags<AccessFs> = AccessFs::from_read(abi);
     // The toolchain, the system's compilers, linkers and libraries, the
     // dependencies' sources and the copy of the lab: read only.

@@ -1,6 +1,6 @@
 //! The child: [`serve`] reads [`Request`]s (the input mesh and the
 //! operation, never the expected result) on
-//! [`crate::isolate::sandbox::REQUEST_FD`] (its stdin is `/dev/null`), one
+//! [`crate::isolate::wire::REQUEST_FD`] (its stdin is `/dev/null`), one
 //! after another, calls the student's function for each under
 //! `catch_unwind` with a silent panic hook ([`guarded`]), and sends back
 //! the mesh as the function left it. It judges nothing and reads no file;
@@ -212,13 +212,13 @@ pub fn serve(imp: &Implementation) -> ! {
     let mut channel = std::fs::File::from(channel);
     // The requests come on their own descriptor (stdin is /dev/null).
     // SAFETY: F_GETFD only asks whether the descriptor is open.
-    if unsafe { libc::fcntl(crate::isolate::sandbox::REQUEST_FD, libc::F_GETFD) } < 0 {
+    if unsafe { libc::fcntl(crate::isolate::wire::REQUEST_FD, libc::F_GETFD) } < 0 {
         eprintln!("grader child: no request: this program is started by the grader");
         std::process::exit(3);
     }
     // SAFETY: the descriptor is open and this is its only owner.
     let mut requests = unsafe {
-        <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(crate::isolate::sandbox::REQUEST_FD)
+        <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(crate::isolate::wire::REQUEST_FD)
     };
     // The student's log lines show up in the captured output.
     halfedge::logging::init(halfedge::logging::Color::Never);

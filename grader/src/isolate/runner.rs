@@ -5,7 +5,7 @@
 //! everything the child started.
 //!
 //! Three pipes: the requests go in on the launcher's stdin (the child
-//! reads it on [`crate::isolate::sandbox::REQUEST_FD`], its stdin is `/dev/null`);
+//! reads it on [`crate::isolate::wire::REQUEST_FD`], its stdin is `/dev/null`);
 //! frames come back on its stdout (see [`crate::isolate::wire`]); whatever the
 //! student's code prints (stdout and stderr both) arrives on its stderr.
 //! No pipe is waited on past the deadline: the launcher starts in a
@@ -180,7 +180,7 @@ extern "C" fn remove_copies() {
 fn runnable_program(exe: &std::path::Path, limits: &Limits) -> Result<PathBuf, String> {
     // SAFETY: geteuid only reads.
     let root = unsafe { libc::geteuid() } == 0;
-    if !root || !limits.drop_user || sandbox::runnable_by_others(exe) {
+    if !root || !limits.drop_user || crate::isolate::sys::runnable_by_others(exe) {
         return Ok(exe.to_path_buf());
     }
     let mut copies = COPIES.lock().unwrap_or_else(|e| e.into_inner());

@@ -26,6 +26,10 @@ use serde::{Deserialize, Serialize};
 
 use halfedge::{DVec3, Edge, EdgeId, Face, FaceId, Halfedge, HalfedgeId, Mesh, Vertex, VertexId};
 
+/// The descriptor the child reads its request on. Its standard input is
+/// `/dev/null`: never a terminal, whatever started the grader.
+pub const REQUEST_FD: i32 = 3;
+
 /// The operation a child runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Op {
