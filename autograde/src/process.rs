@@ -50,7 +50,7 @@ pub fn run_limited(
 }
 
 /// Kills the process group `pgid` (gone already is fine).
-pub use grader::isolate::runner::kill_group;
+pub use grader::isolate::process::kill_group;
 
 /// Makes this process the reaper of its orphaned descendants, so that
 /// [`sweep`] finds them. Returns whether the kernel agreed.

@@ -808,7 +808,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         return ExitCode::SUCCESS;
     }
 
-    runner::become_subreaper();
+    isolate::process::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
         drop_user: true,
@@ -839,8 +839,10 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         .flatten();
     // Naming a bonus case is asking for it to count.
     let bonus = cli.bonus || cli.case.is_some();
-    let protections =
-        report::protections::line(protections.as_ref(), runner::grader_not_dumpable());
+    let protections = report::protections::line(
+        protections.as_ref(),
+        isolate::process::grader_not_dumpable(),
+    );
     let time_line = plan.describe(cli.timeout);
     let protections_json = protections.clone();
     let report_path = match &cli.report {

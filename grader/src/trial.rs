@@ -204,7 +204,7 @@ fn run(cli: &TryCli, program: &ChildProgram, seen: &mut Seen) -> ExitCode {
         ),
     );
     seen.title = format!("{function} on {} ({word})", cli.file.display());
-    runner::become_subreaper();
+    crate::isolate::process::become_subreaper();
     let limits = sandbox::Limits {
         memory: cli.memory,
         drop_user: true,

@@ -56,7 +56,7 @@ fn start_pass() -> Result<Child, String> {
 /// Ends a pass and everything in its process group.
 fn stop_pass(child: &mut Child) {
     // The pass's own process group: its id is the pass's pid.
-    crate::isolate::runner::kill_group(child.id());
+    crate::isolate::process::kill_group(child.id());
     let _ = child.wait();
 }
 

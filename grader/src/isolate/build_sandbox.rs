@@ -600,7 +600,7 @@ fn supervise(build: &Build) -> i32 {
         if stopped || start.elapsed() >= limit {
             timed_out = !stopped;
             // The child's session is its process group.
-            crate::isolate::runner::kill_group(pid as u32);
+            crate::isolate::process::kill_group(pid as u32);
             // SAFETY: waits for our own child.
             unsafe {
                 libc::waitpid(pid, &mut wait_status, 0);
@@ -674,7 +674,7 @@ fn pass_on(mut from: std::fs::File) {
 fn sweep(session: libc::pid_t) {
     let me = std::process::id().to_string();
     for _ in 0..50 {
-        crate::isolate::runner::kill_group(session as u32);
+        crate::isolate::process::kill_group(session as u32);
         let mut any = false;
         for entry in std::fs::read_dir("/proc").into_iter().flatten().flatten() {
             let Ok(pid) = entry.file_name().to_string_lossy().parse::<libc::pid_t>() else {
