@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use grader::isolate::build_sandbox::{Build, Report};
+use crate::build::{Build, Report};
 
 use crate::process::run_limited;
 
@@ -151,7 +151,7 @@ pub fn compiler_text(stderr: &str) -> String {
 }
 
 /// Runs `build` through `launcher` (a program whose `main` calls
-/// [`grader::isolate::build_sandbox::launch_if_asked`]), its output in `logs`. An
+/// [`crate::build::launch_if_asked`]), its output in `logs`. An
 /// error is the TA's (the launcher missing), never the student's.
 pub fn build(build: &Build, launcher: &Path, logs: &Path) -> Result<Built, String> {
     let _ = std::fs::remove_file(&build.status);

@@ -11,6 +11,7 @@
 //! and the `autograde` program (Gradescope, Classroom 50, PrairieLearn)
 //! both call it.
 
+pub mod build;
 pub mod clock;
 pub mod grade;
 pub mod gradescope;

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use grader::isolate::build_sandbox::{Build, Outcome as BuildOutcome};
+use crate::build::{Build, Outcome as BuildOutcome};
 
 use crate::grade::{self, Grading};
 use crate::platform::Outcome;

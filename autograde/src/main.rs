@@ -204,7 +204,7 @@ fn run(args: Vec<String>) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    grader::isolate::build_sandbox::launch_if_asked();
+    autograde::build::launch_if_asked();
     autograde::process::reap_if_asked();
     match run(std::env::args().skip(1).collect()) {
         Ok(()) => ExitCode::SUCCESS,

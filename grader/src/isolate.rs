@@ -16,11 +16,12 @@
 //! - [`child`]: the child's side ([`child::serve`]); [`analyze`]: the
 //!   parent's reading of its result; [`guard`]: panics caught without a
 //!   word on the screen, on both sides.
-//! - [`build_sandbox`]: the same lock-in for a student's build (class
-//!   grading and the Gradescope bundle).
+//!
+//! The same lock-in for a student's build (class grading, the platforms)
+//! is the TAs' side's: `autograde::build`, built on [`sys`],
+//! [`namespace`], [`landlock_rules`] and [`process`].
 
 pub mod analyze;
-pub mod build_sandbox;
 pub mod child;
 pub mod end;
 pub mod guard;

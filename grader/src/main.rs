@@ -9,6 +9,5 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     grader::isolate::sandbox::launch_if_asked();
-    grader::isolate::build_sandbox::launch_if_asked();
     grader::main_with(grader::student_child_program)
 }

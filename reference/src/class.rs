@@ -11,7 +11,7 @@
 //!
 //! Compiling is running the student's code (`include_str!`, `env!`): every
 //! build goes through the grader's build launcher
-//! ([`grader::isolate::build_sandbox`]), which lets it read only the toolchain, the
+//! ([`autograde::build`]), which lets it read only the toolchain, the
 //! vendored dependencies and that copy, write only its target folder (in a
 //! folder of its own outside the lab, under a name nobody can guess), with
 //! an environment of its own, no network, a memory cap and a time limit. So
@@ -22,10 +22,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
+use autograde::build::{Build, Outcome};
 use autograde::grade::{self, STAGES};
 use autograde::platform;
 use autograde::upload::{is_link, read_source, take_lib_rs};
-use grader::isolate::build_sandbox::{Build, Outcome};
 use grader::report::quoted::{self, Quoted};
 
 use crate::handout::{self, Purpose};
@@ -210,7 +210,7 @@ pub struct Options {
     /// folder, removed at the end (the dependencies then compile afresh).
     pub build_dir: Option<PathBuf>,
     /// The program that locks builds in: one whose `main` calls
-    /// [`grader::isolate::build_sandbox::launch_if_asked`] (the reference binary).
+    /// [`autograde::build::launch_if_asked`] (the reference binary).
     pub launcher: PathBuf,
     /// The memory cap of each compiler process, in bytes.
     pub build_memory: u64,
@@ -335,7 +335,7 @@ pub fn run(args: ClassArgs) -> Result<std::process::ExitCode, String> {
         build_dir: args.build_dir.map(|d| here.join(d)),
         // This program: its main starts the build launcher.
         launcher: std::env::current_exe().map_err(|e| e.to_string())?,
-        build_memory: grader::isolate::build_sandbox::DEFAULT_MEMORY,
+        build_memory: autograde::build::DEFAULT_MEMORY,
         build_seconds: None,
         fresh: !args.no_fresh,
         progress: !args.quiet,

@@ -86,7 +86,7 @@ enum Command {
 
 fn main() -> ExitCode {
     grader::isolate::sandbox::launch_if_asked();
-    grader::isolate::build_sandbox::launch_if_asked();
+    autograde::build::launch_if_asked();
     // Class grading runs each stage's grader under this program as a reaper.
     autograde::process::reap_if_asked();
     let outcome = match Cli::parse().command {

@@ -1925,7 +1925,7 @@ fn without_landlock_dev_zero_meets_the_memory_cap() {
         "the class tests vendor the dependencies"
     );
     let status = dir.join("status");
-    let build = grader::isolate::build_sandbox::Build {
+    let build = autograde::build::Build {
         lab: lab.clone(),
         vendor: build_dir.join("vendor"),
         sysroot: String::from_utf8_lossy(&sysroot.stdout).trim().into(),
@@ -1938,17 +1938,17 @@ fn without_landlock_dev_zero_meets_the_memory_cap() {
         landlock: false,
         empty_root: false,
     };
-    let launch = |build: &grader::isolate::build_sandbox::Build| {
+    let launch = |build: &autograde::build::Build| {
         let out = Command::new(env!("CARGO_BIN_EXE_reference"))
             .args(build.args())
             .env_clear()
             .output()
             .unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-        let report = grader::isolate::build_sandbox::Report::read(&status).unwrap();
+        let report = autograde::build::Report::read(&status).unwrap();
         assert_eq!(
             report.outcome,
-            grader::isolate::build_sandbox::Outcome::Failed,
+            autograde::build::Outcome::Failed,
             "{stderr}"
         );
         assert!(report.protections().contains("Landlock off"), "{report:?}");
@@ -1966,7 +1966,7 @@ fn without_landlock_dev_zero_meets_the_memory_cap() {
             .contains("machine's files seen to exist (no mount namespace here)"),
         "{report:?}"
     );
-    let (stderr, report) = launch(&grader::isolate::build_sandbox::Build {
+    let (stderr, report) = launch(&autograde::build::Build {
         empty_root: true,
         ..build.clone()
     });

@@ -169,7 +169,7 @@ pub fn class_options(timeout: f64, budget: f64) -> reference::class::Options {
         bonus: false,
         build_dir: Some(class_build_dir()),
         launcher: PathBuf::from(env!("CARGO_BIN_EXE_reference")),
-        build_memory: grader::isolate::build_sandbox::DEFAULT_MEMORY,
+        build_memory: autograde::build::DEFAULT_MEMORY,
         build_seconds: None,
         fresh: true,
         progress: false,
