@@ -15,10 +15,17 @@
 //!   name);
 //! - `view.rs`: where to look from, and the camera that projects;
 //! - `svg.rs`: the static pictures;
-//! - `inspector.rs`: the data the inspector reads (each mesh's full
+//! - `inspector.rs`: the pieces of the data the inspector reads (each mesh's full
 //!   connectivity, the marks, the handout's names, the step-through
 //!   frames), and `inspector.js`/`inspector.css`, the viewer itself;
-//! - `page.rs`: the page.
+//! - `case_data.rs`: one case's inspector data, put together from
+//!   `inspector.rs`'s pieces;
+//! - `card.rs`: one case's card (verdict, messages, OBJ links, what the
+//!   code printed, the inspector's place, the static pictures);
+//! - `obj.rs`: the OBJ files beside the page;
+//! - `page.rs`: the report's page (the case list, the cards, the live
+//!   reload under `--watch`) and the style and script every page inlines;
+//! - `trial_page.rs`: `try --report`'s page, on the same pieces.
 //!
 //! The student's mesh may be anything: every id is bounds-checked, every
 //! walk is bounded, non-finite or far-off positions are left out or pinned
@@ -26,17 +33,20 @@
 
 use halfedge::DVec3;
 
+mod card;
+mod case_data;
 mod faces;
 mod inspector;
 mod marks;
+mod obj;
 mod page;
 mod svg;
+mod trial_page;
 mod view;
 
 pub use inspector::{Frames, FRAME_LIMIT};
-pub use page::{
-    write_report, write_report_frames, write_report_live, write_trial_report, TrialPage, STAMP_FILE,
-};
+pub use page::{write_report, write_report_frames, write_report_live, STAMP_FILE};
+pub use trial_page::{write_trial_report, TrialPage};
 
 fn pair(a: usize, b: usize) -> [usize; 2] {
     [a.min(b), a.max(b)]
