@@ -14,8 +14,21 @@ use super::svg::{legend, shade_css};
 use crate::judge::fixture::{Fixture, Group};
 use crate::judge::verdict::CaseReport;
 
-/// The inspector: its script and style, inlined once per page.
-pub(super) const INSPECTOR_JS: &str = include_str!("inspector.js");
+/// The inspector's script: the files of `script/`, one script in this
+/// order (`model.js` opens the function scope they share, `start.js`
+/// starts the inspectors and closes it), inlined once per page.
+pub(super) const INSPECTOR_JS: &str = concat!(
+    include_str!("script/model.js"),
+    include_str!("script/inspector.js"),
+    include_str!("script/frames.js"),
+    include_str!("script/camera.js"),
+    include_str!("script/render.js"),
+    include_str!("script/labels.js"),
+    include_str!("script/pick.js"),
+    include_str!("script/controls.js"),
+    include_str!("script/panel.js"),
+    include_str!("script/start.js"),
+);
 /// The inspector's style.
 pub(super) const INSPECTOR_CSS: &str = include_str!("inspector.css");
 
