@@ -1,3 +1,6 @@
+  // Where the panes look from: the camera, the frame each pane is fitted
+  // to, turning to an element, and the projection.
+
   // The frame to view in: the expected result's box, else the input's.
   Inspector.prototype.resetView = function () {
     var I = this;

@@ -1,3 +1,6 @@
+  // The mouse (turn, move, zoom, hover, click), the selection, "select
+  // error" and Scotty3D's keys.
+
   Inspector.prototype.mouse = function (pane, cv) {
     var I = this, drag = null;
     cv.addEventListener('contextmenu', function (ev) { ev.preventDefault(); });

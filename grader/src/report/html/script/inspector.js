@@ -1,4 +1,5 @@
-  // --- one inspector per case -------------------------------------------
+  // One inspector per case: its meshes, its layers (what is drawn), the
+  // bar of buttons and toggles, the panes and the panel beside them.
 
   function el(tag, attrs, text) {
     var e = document.createElement(tag);
@@ -14,31 +15,7 @@
     if (data.input) { I.models.input = new Model(data.input, true); }
     if (data.expected) { I.models.expected = new Model(data.expected, false); }
     if (data.yours) { I.models.yours = new Model(data.yours, true); }
-    I.frames = data.frames && data.frames.list && data.frames.list.length ? data.frames : null;
-    if (I.frames) {
-      // The first frame is whole, each later one what changed since the
-      // one before (new length, then index, value pairs, per array).
-      var prev = {};
-      I.frameModels = I.frames.list.map(function (fr) {
-        var mesh = fr.mesh || {};
-        if (!fr.mesh && fr.delta) {
-          mesh = {};
-          Object.keys(prev).forEach(function (k) { mesh[k] = prev[k]; });
-          Object.keys(fr.delta).forEach(function (k) {
-            var d = fr.delta[k];
-            if (!Array.isArray(d) || !d.length) { delete mesh[k]; return; }
-            var arr = (prev[k] || []).slice(0, d[0]);
-            for (var i = 1; i + 1 < d.length; i += 2) { if (isId(d[i], d[0])) { arr[d[i]] = d[i + 1]; } }
-            for (var j = 0; j < d[0]; j++) { if (arr[j] === undefined) { arr[j] = null; } }
-            mesh[k] = arr;
-          });
-        }
-        prev = mesh;
-        return new Model(mesh, true);
-      });
-      I.frame = I.frameModels.length - 1;
-      I.models.yours = I.frameModels[I.frame];
-    }
+    I.loadFrames();
     I.layers = { input: true, expected: true, yours: true, back: true, labels: true, arrows: true, dots: true, marks: true, names: true, only: false };
     var big = I.models.yours || I.models.expected || I.models.input;
     if (big && big.nv >= 60) { I.layers.labels = false; }
@@ -86,21 +63,7 @@
       bar.appendChild(lab);
     });
     root.appendChild(bar);
-    if (I.frames) {
-      var fb = el('div', { 'class': 'frames' });
-      var slider = el('input', { type: 'range', min: '0', max: String(I.frameModels.length - 1), value: String(I.frame), 'class': 'frame-slider' });
-      slider.oninput = function () { I.setFrame(+slider.value); };
-      I.frameText = el('span', { 'class': 'frame-text' });
-      I.frameBroken = el('span', { 'class': 'frame-broken' });
-      fb.appendChild(el('span', {}, 'step through your run: '));
-      fb.appendChild(slider); fb.appendChild(I.frameText); fb.appendChild(I.frameBroken);
-      if (I.frames.firstBroken !== null && I.frames.firstBroken !== undefined) {
-        fb.appendChild(el('span', { 'class': 'frame-note' }, 'the first broken frame is ' + (I.frames.firstBroken + 1)));
-      }
-      if (I.frames.cut) { fb.appendChild(el('span', { 'class': 'frame-cut' }, I.frames.cut)); }
-      I.slider = slider;
-      root.appendChild(fb);
-    }
+    I.buildFrames(root);
     var row = el('div', { 'class': 'row' });
     I.panes = {};
     [['input', 'input (as sent)'], ['expected', 'expected'], ['yours', 'yours']].forEach(function (p) {

@@ -1,3 +1,5 @@
+  // The labels, placed once a pane is drawn so that none covers another.
+
   // Where an element's label hangs: a vertex's at its dot, a halfedge's or
   // edge's at the middle of what is drawn, a face's at its centre.
   function anchorOf(it) {

@@ -1,8 +1,14 @@
 // The report's 3D half-edge inspector: hand-written, canvas 2D, no
 // library, nothing fetched (the page opens from file://). Each case's data
-// is a JSON blob written by inspector.rs. The student's mesh may be
-// anything (ids out of range, non-finite positions, broken next loops): every id
-// is bounds-checked and every walk bounded here, as on the Rust side.
+// is a JSON blob written by case_data.rs (try's page: trial_page.rs). The
+// student's mesh may be anything (ids out of range, non-finite positions,
+// broken next loops): every id is bounds-checked and every walk bounded
+// here, as on the Rust side.
+//
+// The files of script/ are one script, in the order page.rs lists them:
+// this one opens the function scope they share (its only globals are
+// window.meshlabInspect and window.meshlabInspectors), start.js closes it.
+// Here: the small helpers, and a mesh as the script draws it.
 (function () {
   'use strict';
   var KINDS = { v: 'vertex', e: 'edge', f: 'face', h: 'halfedge' };

@@ -1,3 +1,5 @@
+  // What is under the pointer, and where an element was drawn.
+
   function segDist(x, y, s) {
     var dx = s[2] - s[0], dy = s[3] - s[1], l2 = dx * dx + dy * dy;
     var t = l2 > 0 ? Math.max(0, Math.min(1, ((x - s[0]) * dx + (y - s[1]) * dy) / l2)) : 0;

@@ -1,3 +1,7 @@
+  // A pane's picture, painted far to near on a canvas: faces shaded by
+  // their normal, sides, halfedges' arrows, vertices, the marks (what is
+  // wrong), the selection; and the labels each element's drawing wants.
+
   // The marks of one pane, as sets; "first problem only" keeps those
   // near the selection (or the error).
   Inspector.prototype.marksOf = function (pane) {
@@ -51,6 +55,9 @@
     return kind + id + (name ? ' (' + name + ')' : '');
   };
 
+  // Draws one pane: its faces far to near, what no face holds, the marks
+  // again faded, the selection, then the labels; what was drawn where is
+  // kept in `panes[pane].items`, for picking.
   Inspector.prototype.drawPane = function (pane) {
     var I = this, P = I.panes[pane], m = I.models[pane], cv = P.canvas;
     var dpr = window.devicePixelRatio || 1, W = 360, H = 320;
@@ -64,13 +71,33 @@
       var s = I.project(p, W, H, I.frameOf(pane));
       return isFinite(s[0]) && isFinite(s[1]) && Math.abs(s[0]) < 1e6 && Math.abs(s[1]) < 1e6 ? s : null;
     });
-    var marks = I.marksOf(pane), L = I.layers, items = [];
+    // What the steps share: the pane, its positions on screen, its marks
+    // and layers, what they drew (`items`) and the labels they want.
+    // Labels are gathered while drawing and placed at the end, so none
+    // covers another (see placeLabels).
+    var d = { I: I, pane: pane, m: m, ctx: ctx, S: S, marks: I.marksOf(pane), L: I.layers, items: [], labels: [], small: m.nv < 150 };
+    drawFaces(d, faceOrder(d));
+    drawLoose(d);
+    // How many marks show (for the tests); drawn again, faded, so that
+    // those behind the surface still show.
+    var L = d.L, marks = d.marks;
+    P.marksShown = L.marks ? Object.keys(marks.v).length + Object.keys(marks.e).length + Object.keys(marks.named).length : 0;
+    if (L.marks) { drawMarks(d); }
+    drawSelection(d);
+    P.items = d.items;
+    I.placeLabels(pane, ctx, d.labels, W, H, S);
+  };
+
+  // The faces to paint, far to near: those whose corners are all on
+  // screen, front faces only unless the back faces are shown.
+  function faceOrder(d) {
+    var m = d.m, S = d.S, L = d.L;
     var light = [0.35, 0.55, 0.8];
     var order = [];
     m.polys.forEach(function (f, k) {
       var ss = f.vs.map(function (v) { return S[v]; });
       if (ss.some(function (s) { return !s; })) { return; }
-      var n = I.rotated(newell(f.vs.map(function (v) { return m.pos[v]; })));
+      var n = d.I.rotated(newell(f.vs.map(function (v) { return m.pos[v]; })));
       var l = len(n);
       if (!(l > 0)) { return; }
       n = scale(n, m.outward / l);
@@ -80,30 +107,37 @@
       order.push({ k: k, ss: ss, front: front, shade: Math.abs(n[0] * light[0] + n[1] * light[1] + n[2] * light[2]), depth: depth });
     });
     order.sort(function (a, b) { return a.depth - b.depth; });
-    var pairKey = function (a, b) { return Math.min(a, b) + ',' + Math.max(a, b); };
-    var small = m.nv < 150;
-    var arrow = function (a, b, cx, cy, color, width) {
-      // Inside the face: ends pulled toward its centre and shortened.
-      var ax = a[0] + (cx - a[0]) * 0.22, ay = a[1] + (cy - a[1]) * 0.22;
-      var bx = b[0] + (cx - b[0]) * 0.22, by = b[1] + (cy - b[1]) * 0.22;
-      var dx = bx - ax, dy = by - ay;
-      ax += dx * 0.12; ay += dy * 0.12; bx -= dx * 0.12; by -= dy * 0.12;
-      ctx.strokeStyle = color; ctx.fillStyle = color; ctx.lineWidth = width;
-      ctx.beginPath(); ctx.moveTo(ax, ay); ctx.lineTo(bx, by); ctx.stroke();
-      var l = Math.sqrt(dx * dx + dy * dy) || 1, ux = dx / l, uy = dy / l, hl = Math.min(7, l * 0.3);
-      ctx.beginPath(); ctx.moveTo(bx, by);
-      ctx.lineTo(bx - ux * hl - uy * hl * 0.5, by - uy * hl + ux * hl * 0.5);
-      ctx.lineTo(bx - ux * hl + uy * hl * 0.5, by - uy * hl - ux * hl * 0.5);
-      ctx.closePath(); ctx.fill();
-      return [ax, ay, bx, by];
-    };
-    var dot = function (s, color, r) { ctx.fillStyle = color; ctx.beginPath(); ctx.arc(s[0], s[1], r, 0, 2 * Math.PI); ctx.fill(); };
-    // Labels are gathered while drawing and placed at the end, so none
-    // covers another (see placeLabels).
-    var labels = [];
-    var want = function (kind, id, at, color, rank) {
-      labels.push({ kind: kind, id: id, at: at, t: I.label(pane, kind, id), color: color, rank: rank, n: labels.length });
-    };
+    return order;
+  }
+
+  function pairKey(a, b) { return Math.min(a, b) + ',' + Math.max(a, b); }
+
+  // A halfedge's arrow from a to b; returns the segment drawn.
+  function arrow(ctx, a, b, cx, cy, color, width) {
+    // Inside the face: ends pulled toward its centre and shortened.
+    var ax = a[0] + (cx - a[0]) * 0.22, ay = a[1] + (cy - a[1]) * 0.22;
+    var bx = b[0] + (cx - b[0]) * 0.22, by = b[1] + (cy - b[1]) * 0.22;
+    var dx = bx - ax, dy = by - ay;
+    ax += dx * 0.12; ay += dy * 0.12; bx -= dx * 0.12; by -= dy * 0.12;
+    ctx.strokeStyle = color; ctx.fillStyle = color; ctx.lineWidth = width;
+    ctx.beginPath(); ctx.moveTo(ax, ay); ctx.lineTo(bx, by); ctx.stroke();
+    var l = Math.sqrt(dx * dx + dy * dy) || 1, ux = dx / l, uy = dy / l, hl = Math.min(7, l * 0.3);
+    ctx.beginPath(); ctx.moveTo(bx, by);
+    ctx.lineTo(bx - ux * hl - uy * hl * 0.5, by - uy * hl + ux * hl * 0.5);
+    ctx.lineTo(bx - ux * hl + uy * hl * 0.5, by - uy * hl - ux * hl * 0.5);
+    ctx.closePath(); ctx.fill();
+    return [ax, ay, bx, by];
+  }
+  function dot(ctx, s, color, r) { ctx.fillStyle = color; ctx.beginPath(); ctx.arc(s[0], s[1], r, 0, 2 * Math.PI); ctx.fill(); }
+  // A label the pane wants, placed later by rank.
+  function want(d, kind, id, at, color, rank) {
+    d.labels.push({ kind: kind, id: id, at: at, t: d.I.label(d.pane, kind, id), color: color, rank: rank, n: d.labels.length });
+  }
+
+  // Each face in `order`: filled, its sides (red or orange where marked),
+  // its halfedges' arrows, its corners, and the labels it wants.
+  function drawFaces(d, order) {
+    var I = d.I, pane = d.pane, m = d.m, ctx = d.ctx, marks = d.marks, L = d.L, items = d.items;
     order.forEach(function (o) {
       var f = m.polys[o.k], ss = o.ss;
       var k = Math.round(o.shade * 15) / 15;
@@ -129,26 +163,30 @@
         for (var j = 0; j < ss.length; j++) {
           var h = f.hs[j];
           var named = L.marks && marks.named['h' + h];
-          var seg = arrow(ss[j], ss[(j + 1) % ss.length], cx, cy, named ? '#8e24aa' : 'rgba(29,39,51,.7)', named ? 2.4 : 1.1);
+          var seg = arrow(ctx, ss[j], ss[(j + 1) % ss.length], cx, cy, named ? '#8e24aa' : 'rgba(29,39,51,.7)', named ? 2.4 : 1.1);
           items.push({ kind: 'h', id: h, seg: seg, w: 4 });
           // Only the halfedges that have a name: all of them would be unreadable.
           var hname = L.names ? I.names[pane]['h' + h] : null;
-          if (L.labels && (hname || named)) { want('h', h, [(seg[0] + seg[2]) / 2, (seg[1] + seg[3]) / 2], '#6a4c93', 2); }
+          if (L.labels && (hname || named)) { want(d, 'h', h, [(seg[0] + seg[2]) / 2, (seg[1] + seg[3]) / 2], '#6a4c93', 2); }
         }
       }
       var fname = L.names ? I.names[pane]['f' + f.face] : null;
       if (L.labels && f.hs && o.front && (fname || (L.marks && marks.named['f' + f.face]))) {
-        want('f', f.face, [cx, cy], '#2e5d2e', 2);
+        want(d, 'f', f.face, [cx, cy], '#2e5d2e', 2);
       }
       f.vs.forEach(function (v, i) {
         var wrong = L.marks && marks.v[v];
-        if (L.dots || wrong) { dot(ss[i], wrong ? '#e00000' : '#1d2733', wrong ? 4 : small ? 2.4 : 1.5); }
+        if (L.dots || wrong) { dot(ctx, ss[i], wrong ? '#e00000' : '#1d2733', wrong ? 4 : d.small ? 2.4 : 1.5); }
         items.push({ kind: 'v', id: v, at: ss[i], r: 6 });
-        if (L.labels && (o.front || wrong)) { want('v', v, ss[i], wrong ? '#c00000' : '#1d2733', wrong || (L.names && I.names[pane]['v' + v]) ? 2 : 4); }
+        if (L.labels && (o.front || wrong)) { want(d, 'v', v, ss[i], wrong ? '#c00000' : '#1d2733', wrong || (L.names && I.names[pane]['v' + v]) ? 2 : 4); }
       });
     });
-    // What no drawn face holds: halfedges of holes or broken loops along
-    // their edge, loose edges, lone vertices; on top.
+  }
+
+  // What no drawn face holds: halfedges of holes or broken loops along
+  // their edge, loose edges, lone vertices; on top.
+  function drawLoose(d) {
+    var m = d.m, ctx = d.ctx, S = d.S, marks = d.marks, L = d.L, items = d.items;
     var inPoly = {};
     m.polys.forEach(function (f) { f.vs.forEach(function (v) { inPoly[v] = 1; }); });
     m.looseH.forEach(function (h) {
@@ -158,9 +196,9 @@
       // Offset to the halfedge's left in the picture.
       var ox = dy / l * 5, oy = -dx / l * 5;
       var named = L.marks && marks.named['h' + h];
-      var seg = arrow([a[0] + ox, a[1] + oy], [b[0] + ox, b[1] + oy], (a[0] + b[0]) / 2 + ox, (a[1] + b[1]) / 2 + oy, named ? '#8e24aa' : 'rgba(150,80,0,.8)', named ? 2.4 : 1.1);
+      var seg = arrow(ctx, [a[0] + ox, a[1] + oy], [b[0] + ox, b[1] + oy], (a[0] + b[0]) / 2 + ox, (a[1] + b[1]) / 2 + oy, named ? '#8e24aa' : 'rgba(150,80,0,.8)', named ? 2.4 : 1.1);
       if (L.arrows || named) { items.push({ kind: 'h', id: h, seg: seg, w: 4 }); }
-      if (L.labels && (named || m.looseH.length < 40)) { want('h', h, [(seg[0] + seg[2]) / 2, (seg[1] + seg[3]) / 2], '#6a4c93', named ? 2 : 4); }
+      if (L.labels && (named || m.looseH.length < 40)) { want(d, 'h', h, [(seg[0] + seg[2]) / 2, (seg[1] + seg[3]) / 2], '#6a4c93', named ? 2 : 4); }
     });
     m.looseE.forEach(function (e) {
       if (!S[e[0]] || !S[e[1]]) { return; }
@@ -171,55 +209,57 @@
     S.forEach(function (s, v) {
       if (!s || inPoly[v]) { return; }
       var wrong = L.marks && marks.v[v];
-      dot(s, wrong ? '#e00000' : '#1d2733', wrong ? 4 : 2.4);
+      dot(ctx, s, wrong ? '#e00000' : '#1d2733', wrong ? 4 : 2.4);
       items.push({ kind: 'v', id: v, at: s, r: 6 });
-      if (L.labels) { want('v', v, s, wrong ? '#c00000' : '#1d2733', wrong ? 2 : 4); }
+      if (L.labels) { want(d, 'v', v, s, wrong ? '#c00000' : '#1d2733', wrong ? 2 : 4); }
     });
-    // Marks again, faded, so those behind the surface still show.
-    P.marksShown = L.marks ? Object.keys(marks.v).length + Object.keys(marks.e).length + Object.keys(marks.named).length : 0;
-    if (L.marks) {
-      ctx.globalAlpha = 0.35;
-      Object.keys(marks.v).forEach(function (v) { if (S[v]) { dot(S[v], '#e00000', 4); } });
-      Object.keys(marks.e).forEach(function (k) {
-        var ab = k.split(','), a = S[+ab[0]], b = S[+ab[1]];
-        if (a && b) { ctx.strokeStyle = '#e00000'; ctx.lineWidth = 2.5; ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke(); }
-      });
-      ctx.globalAlpha = 1;
-      Object.keys(marks.named).forEach(function (k) {
-        var vs = m.verticesOf(k[0], +k.slice(1)), ss = vs.map(function (v) { return S[v]; }).filter(function (s) { return s; });
-        if (!ss.length) { return; }
-        ctx.strokeStyle = 'rgba(142,36,170,.75)'; ctx.lineWidth = 3; ctx.beginPath();
-        if (ss.length === 1) { ctx.arc(ss[0][0], ss[0][1], 7, 0, 2 * Math.PI); } else {
-          ss.forEach(function (s, i) { if (i) { ctx.lineTo(s[0], s[1]); } else { ctx.moveTo(s[0], s[1]); } });
-          if (ss.length > 2) { ctx.closePath(); }
-        }
-        ctx.stroke();
-      });
-      Object.keys(marks.fv).forEach(function (v) {
-        if (S[v]) { ctx.strokeStyle = '#ef6c00'; ctx.lineWidth = 2.2; ctx.beginPath(); ctx.arc(S[v][0], S[v][1], 6, 0, 2 * Math.PI); ctx.stroke(); }
-      });
-    }
-    // The selection, always on top.
-    var sel = I.sel;
-    if (sel && sel.pane === pane) {
-      ctx.strokeStyle = '#00b8d4'; ctx.fillStyle = '#00b8d4'; ctx.lineWidth = 3.5;
-      ctx.shadowColor = '#fff'; ctx.shadowBlur = 4;
-      var vs = m.verticesOf(sel.kind, sel.id), ss = vs.map(function (v) { return S[v]; });
-      if (sel.kind === 'v' && ss[0]) { ctx.beginPath(); ctx.arc(ss[0][0], ss[0][1], 7, 0, 2 * Math.PI); ctx.stroke(); }
-      if (sel.kind === 'e' && ss[0] && ss[1]) { ctx.beginPath(); ctx.moveTo(ss[0][0], ss[0][1]); ctx.lineTo(ss[1][0], ss[1][1]); ctx.stroke(); }
-      if (sel.kind === 'h') {
-        var it = items.filter(function (x) { return x.kind === 'h' && x.id === sel.id; }).pop();
-        if (it) { arrow([it.seg[0], it.seg[1]], [it.seg[2], it.seg[3]], (it.seg[0] + it.seg[2]) / 2, (it.seg[1] + it.seg[3]) / 2, '#00b8d4', 3.5); } else if (ss[0] && ss[1]) {
-          arrow(ss[0], ss[1], (ss[0][0] + ss[1][0]) / 2, (ss[0][1] + ss[1][1]) / 2, '#00b8d4', 3.5);
-        }
-      }
-      if (sel.kind === 'f' && ss.length >= 2 && ss.every(function (s) { return s; })) {
-        ctx.beginPath(); ss.forEach(function (s, i) { if (i) { ctx.lineTo(s[0], s[1]); } else { ctx.moveTo(s[0], s[1]); } });
-        ctx.closePath(); ctx.stroke();
-      }
-      ctx.shadowBlur = 0;
-    }
-    P.items = items;
-    I.placeLabels(pane, ctx, labels, W, H, S);
-  };
+  }
 
+  // The marks drawn again, faded, over everything (those behind the
+  // surface too), the named elements outlined, the case's vertices ringed.
+  function drawMarks(d) {
+    var m = d.m, ctx = d.ctx, S = d.S, marks = d.marks;
+    ctx.globalAlpha = 0.35;
+    Object.keys(marks.v).forEach(function (v) { if (S[v]) { dot(ctx, S[v], '#e00000', 4); } });
+    Object.keys(marks.e).forEach(function (k) {
+      var ab = k.split(','), a = S[+ab[0]], b = S[+ab[1]];
+      if (a && b) { ctx.strokeStyle = '#e00000'; ctx.lineWidth = 2.5; ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke(); }
+    });
+    ctx.globalAlpha = 1;
+    Object.keys(marks.named).forEach(function (k) {
+      var vs = m.verticesOf(k[0], +k.slice(1)), ss = vs.map(function (v) { return S[v]; }).filter(function (s) { return s; });
+      if (!ss.length) { return; }
+      ctx.strokeStyle = 'rgba(142,36,170,.75)'; ctx.lineWidth = 3; ctx.beginPath();
+      if (ss.length === 1) { ctx.arc(ss[0][0], ss[0][1], 7, 0, 2 * Math.PI); } else {
+        ss.forEach(function (s, i) { if (i) { ctx.lineTo(s[0], s[1]); } else { ctx.moveTo(s[0], s[1]); } });
+        if (ss.length > 2) { ctx.closePath(); }
+      }
+      ctx.stroke();
+    });
+    Object.keys(marks.fv).forEach(function (v) {
+      if (S[v]) { ctx.strokeStyle = '#ef6c00'; ctx.lineWidth = 2.2; ctx.beginPath(); ctx.arc(S[v][0], S[v][1], 6, 0, 2 * Math.PI); ctx.stroke(); }
+    });
+  }
+
+  // The selection, always on top.
+  function drawSelection(d) {
+    var m = d.m, ctx = d.ctx, S = d.S, items = d.items;
+    var sel = d.I.sel;
+    if (!sel || sel.pane !== d.pane) { return; }
+    ctx.strokeStyle = '#00b8d4'; ctx.fillStyle = '#00b8d4'; ctx.lineWidth = 3.5;
+    ctx.shadowColor = '#fff'; ctx.shadowBlur = 4;
+    var vs = m.verticesOf(sel.kind, sel.id), ss = vs.map(function (v) { return S[v]; });
+    if (sel.kind === 'v' && ss[0]) { ctx.beginPath(); ctx.arc(ss[0][0], ss[0][1], 7, 0, 2 * Math.PI); ctx.stroke(); }
+    if (sel.kind === 'e' && ss[0] && ss[1]) { ctx.beginPath(); ctx.moveTo(ss[0][0], ss[0][1]); ctx.lineTo(ss[1][0], ss[1][1]); ctx.stroke(); }
+    if (sel.kind === 'h') {
+      var it = items.filter(function (x) { return x.kind === 'h' && x.id === sel.id; }).pop();
+      if (it) { arrow(ctx, [it.seg[0], it.seg[1]], [it.seg[2], it.seg[3]], (it.seg[0] + it.seg[2]) / 2, (it.seg[1] + it.seg[3]) / 2, '#00b8d4', 3.5); } else if (ss[0] && ss[1]) {
+        arrow(ctx, ss[0], ss[1], (ss[0][0] + ss[1][0]) / 2, (ss[0][1] + ss[1][1]) / 2, '#00b8d4', 3.5);
+      }
+    }
+    if (sel.kind === 'f' && ss.length >= 2 && ss.every(function (s) { return s; })) {
+      ctx.beginPath(); ss.forEach(function (s, i) { if (i) { ctx.lineTo(s[0], s[1]); } else { ctx.moveTo(s[0], s[1]); } });
+      ctx.closePath(); ctx.stroke();
+    }
+    ctx.shadowBlur = 0;
+  }

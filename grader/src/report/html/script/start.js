@@ -1,3 +1,6 @@
+  // The start: each inspector built when its case comes near the screen,
+  // the static pictures on demand; the end of the scope model.js opens.
+
   // The static pictures sit in a <noscript> (a page with script parses
   // none of their thousands of paths): shown on demand from its text.
   function showStatic(root) {
