@@ -44,10 +44,10 @@ pub fn set_prefault(on: bool) {
 /// per 4 KiB page when each is first written. The subdivision reserves its
 /// arenas exactly (`solution::reserve_round`), so every page faulted in
 /// here is written soon after; a block reserved far beyond its use would
-/// only hold its memory sooner. On icosphere(6) 10-13% of one round and
-/// about 3% of two (`docs/performance.md`). Kernels before 5.14 refuse the
-/// advice: that, like any error, only leaves the pages to fault in one by
-/// one as before.
+/// only hold its memory sooner. What it is worth, and why it is kept:
+/// `docs/performance.md` (`bench --no-prefault` measures it). Kernels
+/// before 5.14 refuse the advice: that, like any error, only leaves the
+/// pages to fault in one by one as before.
 fn prefault(block: *mut u8, from: usize, to: usize) {
     if to - from < PREFAULT_BYTES || !PREFAULT.load(Ordering::Relaxed) {
         return;
