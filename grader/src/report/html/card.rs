@@ -12,12 +12,13 @@ use super::svg::draw;
 use super::view::{Prepared, View};
 use crate::judge::fixture::{Fixture, Group, Operation, Returns};
 use crate::judge::verdict::{CaseReport, Level};
+use crate::quoted::Quoted;
 
 /// Static pictures of meshes with more vertices show one view, not three.
 const STATIC_VIEWS_LIMIT: usize = 200;
 
 /// Characters of what the student's code printed kept in the page.
-pub(super) const OUTPUT_LIMIT: usize = 6000;
+const OUTPUT_LIMIT: usize = 6000;
 
 /// What a case is, in words: `split_edge on cube, edge 2-0`.
 pub(super) fn operation(f: &Fixture) -> String {
@@ -122,20 +123,7 @@ fn log_html(html: &mut String, r: &CaseReport, files: &[(&str, String)], pics: &
         let _ = write!(html, "<a href=\"{0}\">{1}</a>", escape(name), what);
     }
     html.push_str("</p>\n");
-    if !r.output.is_blank() {
-        // Each line under `| `, control characters escaped, as everywhere.
-        let all = r.output.block("");
-        let lines = all.lines().count();
-        let mut shown: String = all.chars().take(OUTPUT_LIMIT).collect();
-        if shown.len() < all.len() {
-            shown.push_str("\n… (cut)");
-        }
-        let _ = writeln!(
-            html,
-            "<details class=\"output\"><summary>what your code printed ({lines} lines)</summary><pre>{}</pre></details>",
-            escape(&shown)
-        );
-    }
+    printed_html(html, &r.output, true);
     if !pics.notes.is_empty() {
         html.push_str("<ul class=\"notes\">");
         for n in &pics.notes {
@@ -143,6 +131,30 @@ fn log_html(html: &mut String, r: &CaseReport, files: &[(&str, String)], pics: &
         }
         html.push_str("</ul>\n");
     }
+}
+
+/// What the student's code printed, folded: each line under `| `, control
+/// characters escaped, as everywhere, and cut at [`OUTPUT_LIMIT`]
+/// characters; with `count_lines`, the summary says how many lines.
+pub(super) fn printed_html(html: &mut String, output: &Quoted, count_lines: bool) {
+    if output.is_blank() {
+        return;
+    }
+    let all = output.block("");
+    let mut shown: String = all.chars().take(OUTPUT_LIMIT).collect();
+    if shown.len() < all.len() {
+        shown.push_str("\n… (cut)");
+    }
+    let lines = if count_lines {
+        format!(" ({} lines)", all.lines().count())
+    } else {
+        String::new()
+    };
+    let _ = writeln!(
+        html,
+        "<details class=\"output\"><summary>what your code printed{lines}</summary><pre>{}</pre></details>",
+        escape(&shown)
+    );
 }
 
 /// The static pictures' table: a row per view; columns input, expected

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use halfedge::{Element, Mesh};
 
-use super::card::{inspector_html, OUTPUT_LIMIT};
+use super::card::{inspector_html, printed_html};
 use super::escape;
 use super::faces::Shape;
 use super::inspector;
@@ -84,19 +84,8 @@ pub fn write_trial_report(dir: &Path, page: &TrialPage) -> Result<PathBuf, Strin
         let _ = write!(html, "<li class=\"{class}\">{}</li>", escape(text));
     }
     html.push_str("</ol>\n");
-    let shown = crate::quoted::Quoted::new(page.output.clone());
-    if !shown.is_blank() {
-        let all = shown.block("");
-        let mut cut: String = all.chars().take(OUTPUT_LIMIT).collect();
-        if cut.len() < all.len() {
-            cut.push_str("\n… (cut)");
-        }
-        let _ = writeln!(
-            html,
-            "<details class=\"output\"><summary>what your code printed</summary><pre>{}</pre></details>",
-            escape(&cut)
-        );
-    }
+    let printed = crate::quoted::Quoted::new(page.output.clone());
+    printed_html(&mut html, &printed, false);
     html.push_str("</div>\n<div class=\"pictures\">");
     inspector_html(&mut html, &data);
     // The static pictures: input and yours, from a corner.
