@@ -27,7 +27,7 @@ pub struct Args {
     /// Leave out the full grades of the reference.
     #[arg(long)]
     no_grade: bool,
-    /// Leave out edit -> verdict (it runs cargo on the lab's workspace).
+    /// Leave out edit -> verdict (it runs cargo on a handout copy of the lab).
     #[arg(long)]
     no_edit: bool,
     /// The reference's side of the peers' comparison

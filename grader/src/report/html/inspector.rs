@@ -1,4 +1,4 @@
-//! The data the inspector (`inspector.js`) reads, one JSON blob per case:
+//! The data the inspector (`script/`) reads, one JSON blob per case:
 //! each mesh's full connectivity as the student's code left it (halfedges
 //! with twin, next, vertex, edge, face; vertices with position, halfedge,
 //! `is_new`, `new_pos`; edges; faces), the input and the expected result,

@@ -15,10 +15,33 @@
 //!   name);
 //! - `view.rs`: where to look from, and the camera that projects;
 //! - `svg.rs`: the static pictures;
-//! - `inspector.rs`: the data the inspector reads (each mesh's full
-//!   connectivity, the marks, the handout's names, the step-through
-//!   frames), and `inspector.js`/`inspector.css`, the viewer itself;
-//! - `page.rs`: the page.
+//! - `inspector.rs`: the pieces of the data the inspector reads (each
+//!   mesh's full connectivity, the marks, the handout's names, the
+//!   step-through frames);
+//! - `case_data.rs`: one case's inspector data, put together from
+//!   `inspector.rs`'s pieces;
+//! - `card.rs`: one case's card (verdict, messages, OBJ links, what the
+//!   code printed, the inspector's place, the static pictures);
+//! - `obj.rs`: the OBJ files beside the page;
+//! - `page.rs`: the report's page (the case list, the cards, the live
+//!   reload under `--watch`) and the style and script every page inlines;
+//! - `trial_page.rs`: `try --report`'s page, on the same pieces;
+//! - `inspector.css` and `script/`, the inspector itself: one script,
+//!   the files concatenated in the order `page.rs` lists them, inside one
+//!   function scope that `model.js` opens and `start.js` closes:
+//!   - `model.js`: a mesh as the script draws it (faces from the `next`
+//!     loops, every id checked), and the small helpers;
+//!   - `inspector.js`: one inspector per case, its layers, bar and panes;
+//!   - `frames.js`: the step-through's frames and their slider;
+//!   - `camera.js`: where the panes look from, and the projection;
+//!   - `render.js`: a pane's picture (faces far to near, halfedges,
+//!     marks, the selection);
+//!   - `labels.js`: the labels, placed so that none covers another;
+//!   - `pick.js`: what is under the pointer;
+//!   - `controls.js`: mouse, selection and Scotty3D's keys;
+//!   - `panel.js`: the panel that describes the selection;
+//!   - `start.js`: each inspector built when its case comes near the
+//!     screen, and the static pictures on demand.
 //!
 //! The student's mesh may be anything: every id is bounds-checked, every
 //! walk is bounded, non-finite or far-off positions are left out or pinned
@@ -26,17 +49,20 @@
 
 use halfedge::DVec3;
 
+mod card;
+mod case_data;
 mod faces;
 mod inspector;
 mod marks;
+mod obj;
 mod page;
 mod svg;
+mod trial_page;
 mod view;
 
 pub use inspector::{Frames, FRAME_LIMIT};
-pub use page::{
-    write_report, write_report_frames, write_report_live, write_trial_report, TrialPage, STAMP_FILE,
-};
+pub use page::{write_report, write_report_frames, write_report_live, STAMP_FILE};
+pub use trial_page::{write_trial_report, TrialPage};
 
 fn pair(a: usize, b: usize) -> [usize; 2] {
     [a.min(b), a.max(b)]
