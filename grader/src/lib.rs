@@ -34,6 +34,7 @@ pub mod judge;
 pub mod quoted;
 pub mod report;
 pub mod text;
+pub mod timing;
 pub mod trial;
 #[cfg(unix)]
 pub mod watch;
@@ -835,7 +836,7 @@ pub fn run(cli: &Cli, program: &runner::ChildProgram) -> ExitCode {
         && (cli.budget.is_none() || cli.time_subdivision);
     let deadline = cli.budget.map(|b| started + Duration::from_secs_f64(b));
     let scaling = scaling::wanted(&reports, asked)
-        .then(|| scaling::measure(program, &limits, plan.timeout, deadline))
+        .then(|| timing::measure(program, &limits, plan.timeout, deadline))
         .flatten();
     // Naming a bonus case is asking for it to count.
     let bonus = cli.bonus || cli.case.is_some();
