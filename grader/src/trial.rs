@@ -12,12 +12,12 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use halfedge::Mesh;
 
+use crate::cli::parse_memory;
 use crate::isolate::end::CaseEnd;
 use crate::isolate::end::{Finished, Returned};
 use crate::isolate::runner::{self, ChildProgram};
 use crate::isolate::sandbox;
 use crate::isolate::wire::{self, Op};
-use crate::parse_memory;
 
 /// The most faces `try` will subdivide into unless `--max-faces` says more.
 const MAX_FACES: u64 = 5_000_000;

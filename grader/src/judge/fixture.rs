@@ -268,6 +268,16 @@ impl Stage {
     pub fn key(self) -> &'static str {
         self.names().key
     }
+
+    /// The stages whose functions this stage's function calls
+    /// (`loop_subdivide` calls `split_edge` and `flip_edge`): when they
+    /// fail their own cases, a failure here may be theirs.
+    pub fn calls(self) -> &'static [Stage] {
+        match self {
+            Stage::Subdivide => &[Stage::Split, Stage::Flip],
+            Stage::Flip | Stage::Split | Stage::Sequence => &[],
+        }
+    }
 }
 
 /// The expected result.

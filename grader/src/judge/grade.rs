@@ -208,7 +208,7 @@ fn judge_finished(
 }
 
 /// Adds a detail line to a case's report, above its "end testing" line.
-pub fn add_detail(report: &mut CaseReport, text: String) {
+fn add_detail(report: &mut CaseReport, text: String) {
     let (mut log, end) = Log::resume(report);
     say!(log, Detail, "{text}");
     log.finish(report, end);
@@ -216,7 +216,7 @@ pub fn add_detail(report: &mut CaseReport, text: String) {
 
 /// Adds the step-through's finding to a failed case: which split broke
 /// the mesh, with the elements it names.
-pub fn note_frames(report: &mut CaseReport, frames: crate::judge::frames::Frames) {
+fn note_frames(report: &mut CaseReport, frames: crate::judge::frames::Frames) {
     if let (false, Some(b)) = (report.passed, &frames.broken) {
         let (mut log, end) = Log::resume(report);
         say!(log, Detail, "{}", b.line);
@@ -229,7 +229,7 @@ pub fn note_frames(report: &mut CaseReport, frames: crate::judge::frames::Frames
 /// Says, under a failure, that it showed only on a relabelled input, what
 /// that input looked like, and what to check (chosen from what the
 /// failure is about: [`CaseReport::pointer`], never its words).
-pub fn note_labelling(
+fn note_labelling(
     report: &mut CaseReport,
     f: &Fixture,
     labelling: &crate::judge::relabel::Labelling,
@@ -267,28 +267,78 @@ pub fn note_labelling(
     report.name_in_case(&labelling.permutation);
 }
 
-/// `loop_subdivide` is built on `split_edge` and `flip_edge`: when those
-/// failed their own cases, say so under each failed subdivision.
-pub fn note_dependencies(reports: &mut [CaseReport]) {
-    let broken: Vec<&'static str> = [Stage::Split, Stage::Flip]
-        .into_iter()
-        .filter(|&s| reports.iter().any(|r| r.stage == s && !r.passed))
-        .map(Stage::function)
-        .collect();
-    if broken.is_empty() {
-        return;
+/// Says, under a failure, which functions it calls failed their own
+/// cases (`loop_subdivide` is built on `split_edge` and `flip_edge`).
+fn note_calls_failed(report: &mut CaseReport, failed: &[Stage]) {
+    let names: Vec<&str> = failed.iter().map(|s| s.function()).collect();
+    let function = report.stage.function();
+    let (mut log, end) = Log::resume(report);
+    say!(
+        log,
+        Detail,
+        "{function} calls your {}, which failed above: fix that first",
+        names.join(" and ")
+    );
+    log.finish(report, end);
+}
+
+/// Everything known about a case's call when its report is made.
+pub struct CaseRun<'a> {
+    /// How the call ended, what it printed, the mesh it left and what it
+    /// recorded.
+    pub child: ChildReport,
+    /// The input as it was sent.
+    pub sent: &'a crate::judge::relabel::Labelling,
+    /// Which labelling it was (0: the mesh as built), of how many, and the
+    /// seed they came from.
+    pub labelling: (usize, usize, u64),
+    /// The call's limit was cut to this many seconds because the function
+    /// already timed out on the case named.
+    pub limit_cut: Option<(f64, String)>,
+    /// Of the stages this one's function calls ([`Stage::calls`]), those
+    /// that failed their own cases.
+    pub calls_failed: Vec<Stage>,
+}
+
+/// The case's finished report: the judge's verdict on the call with
+/// everything said about it (the step-through's finding, the note on a
+/// relabelled input, a cut limit, the functions it calls that failed).
+/// The one entry point: nothing amends a report afterwards. The judge
+/// walks data the student's code made, so a panic in it is the grader's
+/// bug, said as such, never a crash of the whole run.
+pub fn judge_case(f: &Fixture, run: CaseRun) -> CaseReport {
+    let CaseRun {
+        mut child,
+        sent,
+        labelling: (index, total, seed),
+        limit_cut,
+        calls_failed,
+    } = run;
+    let mut report = match crate::isolate::guard::guarded(|| judge(f, &child)) {
+        Ok(r) => r,
+        Err((message, _)) => judge_failed(f, &message, &child.output),
+    };
+    report.input = Some(sent.mesh.clone());
+    report.result = child.mesh.take();
+    if let Some(recorded) = child.recorded.take() {
+        let frames =
+            crate::judge::frames::read(recorded, report.result.as_ref(), &sent.mesh, f.tolerance);
+        note_frames(&mut report, frames);
     }
-    for r in reports
-        .iter_mut()
-        .filter(|r| r.stage == Stage::Subdivide && !r.passed)
-    {
-        let (mut log, end) = Log::resume(r);
-        say!(
-            log,
-            Detail,
-            "loop_subdivide calls your {}, which failed above: fix that first",
-            broken.join(" and ")
+    if !report.passed && index > 0 {
+        note_labelling(&mut report, f, sent, index, total, seed);
+    }
+    if let (true, Some((limit, earlier))) = (report.timed_out, limit_cut) {
+        let function = report.stage.function();
+        add_detail(
+            &mut report,
+            format!(
+                "the limit was cut to {limit} s because {function} already timed out on {earlier}"
+            ),
         );
-        log.finish(r, end);
     }
+    if !report.passed && !calls_failed.is_empty() {
+        note_calls_failed(&mut report, &calls_failed);
+    }
+    report
 }
