@@ -309,15 +309,16 @@ fn summary(out: &mut String, cases: &[CaseReport], opts: &TextOptions) {
 }
 
 #[derive(Serialize)]
-struct JsonReport<'a> {
+struct JsonReport<'a, P: Serialize> {
     passed: bool,
     bonus_counted: bool,
     protections: &'a str,
     /// Every stage of the lab with its names, in grading order: how
     /// scripts (the grading workflow's summary) name them.
     stages: &'static [crate::judge::fixture::StageNames],
-    /// The runs and the per-call limit they were given.
-    plan: &'a crate::Plan,
+    /// The runs and the per-call limit they were given (the run's plan,
+    /// as the run serialises it).
+    plan: &'a P,
     /// `loop_subdivide` timed on two sizes, when it was.
     #[serde(skip_serializing_if = "Option::is_none")]
     scaling: Option<&'a crate::judge::scaling::Scaling>,
@@ -340,7 +341,7 @@ pub fn json(
     cases: &[CaseReport],
     bonus: bool,
     protections: &str,
-    plan: &crate::Plan,
+    plan: &impl Serialize,
     scaling: Option<&crate::judge::scaling::Scaling>,
 ) -> String {
     serde_json::to_string_pretty(&JsonReport {

@@ -2352,7 +2352,10 @@ fn handout_exports_a_reformatted_workspace_manifest() {
     }
     // The dev profiles come through; the release profile, the TAs'
     // benchmarks' only, does not.
-    assert!(exported.contains("[profile.dev.package.halfedge]"), "{exported}");
+    assert!(
+        exported.contains("[profile.dev.package.halfedge]"),
+        "{exported}"
+    );
     assert!(!exported.contains("[profile.release]"), "{exported}");
     assert_locked(&out);
 
